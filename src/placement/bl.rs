@@ -1,0 +1,198 @@
+//! The paper's extended Bottom-Left placement (Section III-B), repeated over seeded random orders.
+//!
+//! For one order: the first object goes to the origin with its largest face against the y–z wall
+//! (its smallest edge along x); every next object takes, among its allowed orientations, the one
+//! whose Bottom-Left position (lowest y, then lowest x, reached by alternately sliding down and
+//! left from every corner candidate) gives the most contact length with walls and placed objects.
+//! Orders: first by decreasing footprint area, then random shuffles from a ChaCha8 generator
+//! seeded with the given seed. The best placement (occupied area, then contact length) is kept.
+
+use super::{area_lower_bound, Placement, PlacementResult, PlacementStatus, Target};
+use crate::control::Terminator;
+use crate::error::{Error, Result};
+use crate::geometry::{Rect, EPS};
+use crate::instance::Instance;
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
+
+/// Run Bottom-Left over `orders` orders (the first deterministic, the rest shuffled by `seed`).
+pub fn solve(inst: &Instance, seed: u64, orders: usize, stop: &dyn Terminator) -> Result<PlacementResult> {
+    let start = Instant::now();
+    let n = inst.n();
+    let mut order: Vec<usize> = (0..n).collect();
+    let min_area = |i: usize| {
+        let o = &inst.objects[i];
+        o.orientations
+            .iter()
+            .map(|q| q.dims(o.size).0[0] * q.dims(o.size).0[1])
+            .fold(0.0, f64::max)
+    };
+    order.sort_by(|a, b| min_area(*b).total_cmp(&min_area(*a)).then(a.cmp(b)));
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut best: Option<(f64, f64, Placement)> = None;
+    let mut tried = 0u64;
+    for k in 0..orders.max(1) {
+        if k > 0 {
+            if stop.should_stop() {
+                break;
+            }
+            order.shuffle(&mut rng);
+        }
+        tried += 1;
+        if let Some(p) = place_in_order(inst, &order) {
+            let area = p.occupied_area();
+            let contact = p.contact_length(inst);
+            let better = match &best {
+                None => true,
+                Some((ba, bc, _)) => area < ba - 1e-12 || (area <= ba + 1e-12 && contact > bc + 1e-12),
+            };
+            if better {
+                best = Some((area, contact, p));
+            }
+        }
+    }
+    let (_, _, placement) = best.ok_or_else(|| Error::Infeasible {
+        reason: format!("Bottom-Left found no placement that fits the container in {tried} orders"),
+    })?;
+    debug_assert!(super::is_bl_stable(&placement.targets));
+    Ok(PlacementResult {
+        placement,
+        status: PlacementStatus::Feasible,
+        lower_bound: area_lower_bound(inst),
+        solver: "bl".into(),
+        time_s: start.elapsed().as_secs_f64(),
+        nodes: tried,
+    })
+}
+
+/// Bottom-Left for one order of objects; `None` when some object does not fit.
+pub fn place_in_order(inst: &Instance, order: &[usize]) -> Option<Placement> {
+    let (w, d) = (inst.container.width, inst.container.depth);
+    let mut targets: Vec<Option<Target>> = vec![None; inst.n()];
+    let mut placed: Vec<Rect> = Vec::new();
+    for (k, &i) in order.iter().enumerate() {
+        let o = &inst.objects[i];
+        let mut best: Option<(Target, f64, f64)> = None; // target, contact, area after
+        let smallest = o.size.iter().cloned().fold(f64::INFINITY, f64::min);
+        let first_choices: Vec<_> = o
+            .orientations
+            .iter()
+            .filter(|q| (q.dims(o.size).0[0] - smallest).abs() <= EPS)
+            .collect();
+        let choices: Vec<_> = if k == 0 && !first_choices.is_empty() {
+            first_choices
+        } else {
+            o.orientations.iter().collect()
+        };
+        for ori in choices {
+            let (fp, h) = ori.dims(o.size);
+            let Some(r) = bl_position(&placed, fp[0], fp[1], w, d) else {
+                continue;
+            };
+            let contact = r.wall_contact_length(w, d) + placed.iter().map(|p| p.contact_length(&r)).sum::<f64>();
+            let (mx, my) = placed.iter().fold((r.x1, r.y1), |(a, b), p| (a.max(p.x1), b.max(p.y1)));
+            let area = mx * my;
+            let t = Target {
+                orientation: *ori,
+                rect: r,
+                height: h,
+            };
+            let better = match &best {
+                None => true,
+                Some((bt, bc, ba)) => {
+                    contact > bc + EPS
+                        || (contact > bc - EPS
+                            && (area < ba - 1e-12 || (area <= ba + 1e-12 && (r.y0, r.x0) < (bt.rect.y0, bt.rect.x0))))
+                }
+            };
+            if better {
+                best = Some((t, contact, area));
+            }
+        }
+        let (t, _, _) = best?;
+        placed.push(t.rect);
+        targets[i] = Some(t);
+    }
+    Some(Placement {
+        targets: targets.into_iter().map(|t| t.expect("every object placed")).collect(),
+    })
+}
+
+/// Lowest-then-leftmost BL-stable position of a `fw × fd` rectangle among `placed`, inside
+/// `[0, w] × [0, d]`.
+pub fn bl_position(placed: &[Rect], fw: f64, fd: f64, w: f64, d: f64) -> Option<Rect> {
+    let mut xs = vec![0.0];
+    let mut ys = vec![0.0];
+    for p in placed {
+        xs.push(p.x1);
+        ys.push(p.y1);
+    }
+    let floor = Rect::new(0.0, 0.0, w, d);
+    let free = |r: &Rect| r.inside(&floor) && placed.iter().all(|p| !p.overlaps(r));
+    let mut best: Option<Rect> = None;
+    for &x in &xs {
+        for &y in &ys {
+            let r = Rect::new(x, y, fw, fd);
+            if !free(&r) {
+                continue;
+            }
+            let r = compact(placed, r);
+            if best
+                .map(|b| r.y0 < b.y0 - EPS || ((r.y0 - b.y0).abs() <= EPS && r.x0 < b.x0 - EPS))
+                .unwrap_or(true)
+            {
+                best = Some(r);
+            }
+        }
+    }
+    best
+}
+
+/// Slide down, then left, until neither moves (the result touches something on −x and −y).
+fn compact(placed: &[Rect], mut r: Rect) -> Rect {
+    loop {
+        let down = placed
+            .iter()
+            .filter(|p| p.overlap_on(&r, crate::geometry::Axis2::X) > EPS && p.y1 <= r.y0 + EPS)
+            .map(|p| p.y1)
+            .fold(0.0, f64::max);
+        let left = placed
+            .iter()
+            .filter(|p| {
+                p.overlap_on(&r.translated(0.0, down - r.y0), crate::geometry::Axis2::Y) > EPS && p.x1 <= r.x0 + EPS
+            })
+            .map(|p| p.x1)
+            .fold(0.0, f64::max);
+        let next = Rect::new(left, down, r.width(), r.depth());
+        if (next.x0 - r.x0).abs() <= EPS && (next.y0 - r.y0).abs() <= EPS {
+            return next;
+        }
+        r = next;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bl_position_fills_the_bottom_row_first() {
+        let placed = vec![Rect::new(0.0, 0.0, 0.1, 0.05)];
+        let r = bl_position(&placed, 0.1, 0.05, 0.3, 0.2).unwrap();
+        assert!((r.x0 - 0.1).abs() < 1e-12 && r.y0.abs() < 1e-12);
+        let placed = vec![Rect::new(0.0, 0.0, 0.2, 0.05)];
+        let r = bl_position(&placed, 0.15, 0.05, 0.3, 0.2).unwrap();
+        assert!(
+            r.x0.abs() < 1e-12 && (r.y0 - 0.05).abs() < 1e-12,
+            "too wide for the row: goes on top, {r:?}"
+        );
+    }
+
+    #[test]
+    fn bl_position_none_when_full() {
+        let placed = vec![Rect::new(0.0, 0.0, 0.3, 0.2)];
+        assert!(bl_position(&placed, 0.01, 0.01, 0.3, 0.2).is_none());
+    }
+}

@@ -1,0 +1,554 @@
+//! The plan: the one composer that runs every stage ([`optimize`]) and the `plan.json` file.
+//!
+//! [`Plan`] is the immutable solution snapshot written to disk; it refers to objects by id so that
+//! outside tools can read it without the instance. [`Plan::actions`] converts it back into
+//! [`Action`]s against an instance, rejecting unknown ids and malformed entries.
+
+use crate::actions::{Action, PlaceMode};
+use crate::control::{Terminator, TimeLimit};
+use crate::error::{Error, Result};
+use crate::geometry::{Axis2, Orientation, PushDir, Rect};
+use crate::instance::Instance;
+use crate::placement::{self, Placement, PlacementResult, PlacementStatus, Target};
+use crate::robot::keypoints::{action_keypoints, path_length, KeyPoint};
+use crate::robot::Arm;
+use crate::sequence::{self, Metrics, SequenceOptions, SequenceResult};
+use serde::{Deserialize, Serialize};
+
+/// Version of the `plan.json` schema.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Which placement solver to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PlacementSolver {
+    /// The paper's extended Bottom-Left.
+    Bl,
+}
+
+/// Which sequencer to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sequencer {
+    /// The paper's Algorithms 1 + 2.
+    Paper,
+}
+
+/// Options of one planning run (defaults from the instance's `[planner]` table).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlanOptions {
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Forbid direct placing.
+    pub no_direct: bool,
+    /// Forbid multi-object pushes.
+    pub no_multi_push: bool,
+    /// Placement solver.
+    pub placement: PlacementSolver,
+    /// Sequencer.
+    pub sequencer: Sequencer,
+    /// Time limit per stage (s).
+    pub time_limit: f64,
+    /// Node limit of the sequence search.
+    pub max_nodes: u64,
+    /// Bottom-Left orders.
+    pub bl_orders: usize,
+}
+
+impl PlanOptions {
+    /// The instance's own settings.
+    pub fn from_instance(inst: &Instance) -> PlanOptions {
+        let s = &inst.settings;
+        PlanOptions {
+            seed: s.seed,
+            no_direct: s.no_direct,
+            no_multi_push: s.no_multi_push,
+            placement: PlacementSolver::Bl,
+            sequencer: Sequencer::Paper,
+            time_limit: s.time_limit,
+            max_nodes: s.max_nodes,
+            bl_orders: s.bl_orders,
+        }
+    }
+}
+
+/// Tool name and version.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ToolInfo {
+    /// `pushpack`.
+    pub name: String,
+    /// Crate version.
+    pub version: String,
+}
+
+/// Which instance the plan is for.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InstanceRef {
+    /// Instance name.
+    pub name: String,
+    /// Path it was loaded from.
+    pub source: String,
+    /// SHA-256 of the instance file.
+    pub digest: String,
+}
+
+/// Summary of the placement stage.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlacementSummary {
+    /// `optimal` or `feasible`.
+    pub status: PlacementStatus,
+    /// Occupied area (m²).
+    pub occupied_area: f64,
+    /// Proven lower bound on the occupied area (m²).
+    pub lower_bound: f64,
+    /// Relative gap.
+    pub gap: f64,
+    /// Contact length (m).
+    pub contact_length: f64,
+    /// Solver name.
+    pub solver: String,
+}
+
+/// One object's target.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlacementEntry {
+    /// Object id.
+    pub object: String,
+    /// Kind name.
+    pub kind: String,
+    /// Orientation (vertical body axis, 90° turn).
+    pub orientation: Orientation,
+    /// Minimum corner x of the footprint in C (m).
+    pub x: f64,
+    /// Minimum corner y of the footprint in C (m).
+    pub y: f64,
+    /// Footprint extent along C's x (m).
+    pub size_x: f64,
+    /// Footprint extent along C's y (m).
+    pub size_y: f64,
+    /// Height (m).
+    pub height: f64,
+}
+
+/// One action in execution order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ActionEntry {
+    /// 1-based step number.
+    pub step: usize,
+    /// `place` or `push`.
+    pub kind: String,
+    /// Object ids (a push lists its line front to back).
+    pub objects: Vec<String>,
+    /// `direct` or `indirect` (places only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mode: Option<String>,
+    /// Push direction (`-x` or `-y`) of an indirect place or a push.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub push_dir: Option<PushDir>,
+    /// Offset from the target of an indirect place (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<f64>,
+    /// Push distance (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distance: Option<f64>,
+    /// Grasp axis of a place (`x` or `y` of C).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grasp_axis: Option<Axis2>,
+    /// Lateral coordinate of the pusher centre (m, C frame).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pusher_at: Option<f64>,
+    /// Release footprint of a place (C frame).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub release: Option<Rect>,
+    /// Push stability margin (m); pushes only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
+    /// Executing arm.
+    pub arm: Arm,
+    /// TCP travel of this action from the arm's previous position (m).
+    pub cost: f64,
+    /// TCP key points (world frame).
+    pub key_poses: Vec<KeyPoint>,
+}
+
+/// Statistics of one stage.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StageStats {
+    /// Stage status (`optimal`, `feasible`, `complete`, `node_limit`, `time_limit`).
+    pub status: String,
+    /// Wall-clock seconds.
+    pub time_s: f64,
+    /// Nodes (or orders) explored.
+    pub nodes: u64,
+    /// Proven lower bound, when the stage has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bound: Option<f64>,
+    /// Relative gap, when the stage has a bound.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap: Option<f64>,
+    /// Assignments evaluated (sequencing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub assignments: Option<u64>,
+}
+
+/// Per-stage statistics.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SolverStats {
+    /// Placement stage.
+    pub placement: StageStats,
+    /// Sequence stage.
+    pub sequence: StageStats,
+}
+
+/// The `plan.json` document.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Plan {
+    /// Schema version ([`FORMAT_VERSION`]).
+    pub format_version: u32,
+    /// Producing tool.
+    pub tool: ToolInfo,
+    /// Instance reference.
+    pub instance: InstanceRef,
+    /// Options used.
+    pub options: PlanOptions,
+    /// Placement summary.
+    pub placement: PlacementSummary,
+    /// Per-object targets, in instance order.
+    pub placements: Vec<PlacementEntry>,
+    /// Actions in execution order.
+    pub actions: Vec<ActionEntry>,
+    /// Plan metrics.
+    pub metrics: Metrics,
+    /// Solver statistics.
+    pub solver: SolverStats,
+}
+
+fn object_index(inst: &Instance, id: &str, field: &str, file: &str) -> Result<usize> {
+    inst.objects
+        .iter()
+        .position(|o| o.id == id)
+        .ok_or_else(|| Error::input(file, field, format!("unknown object id {id:?}")))
+}
+
+impl Plan {
+    /// Read a plan file.
+    pub fn load(path: impl AsRef<std::path::Path>) -> Result<Plan> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.to_path_buf(),
+            source: e,
+        })?;
+        let mut de = serde_json::Deserializer::from_str(&text);
+        serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            Error::input(
+                path.display().to_string(),
+                e.path().to_string(),
+                e.into_inner().to_string(),
+            )
+        })
+    }
+
+    /// Write as pretty JSON.
+    pub fn save(&self, path: impl AsRef<std::path::Path>) -> Result<()> {
+        let path = path.as_ref();
+        let text = serde_json::to_string_pretty(self).expect("plans serialise");
+        std::fs::write(path, text + "\n").map_err(|e| Error::Io {
+            path: path.to_path_buf(),
+            source: e,
+        })
+    }
+
+    /// The placement as targets of the instance's objects (validating ids and sizes).
+    pub fn placement(&self, inst: &Instance) -> Result<Placement> {
+        let file = "plan.json";
+        if self.placements.len() != inst.n() {
+            return Err(Error::input(
+                file,
+                "placements",
+                format!("{} entries for {} objects", self.placements.len(), inst.n()),
+            ));
+        }
+        let mut targets: Vec<Option<Target>> = vec![None; inst.n()];
+        for (k, e) in self.placements.iter().enumerate() {
+            let i = object_index(inst, &e.object, &format!("placements[{k}].object"), file)?;
+            if targets[i].is_some() {
+                return Err(Error::input(
+                    file,
+                    format!("placements[{k}].object"),
+                    format!("object {:?} placed twice", e.object),
+                ));
+            }
+            for (name, v) in [
+                ("x", e.x),
+                ("y", e.y),
+                ("size_x", e.size_x),
+                ("size_y", e.size_y),
+                ("height", e.height),
+            ] {
+                if !v.is_finite() {
+                    return Err(Error::input(file, format!("placements[{k}].{name}"), "must be finite"));
+                }
+            }
+            targets[i] = Some(Target {
+                orientation: e.orientation,
+                rect: Rect::new(e.x, e.y, e.size_x, e.size_y),
+                height: e.height,
+            });
+        }
+        Ok(Placement {
+            targets: targets
+                .into_iter()
+                .map(|t| t.expect("all set: counts match and no duplicates"))
+                .collect(),
+        })
+    }
+
+    /// The actions as [`Action`]s of the instance (validating ids and fields).
+    pub fn actions(&self, inst: &Instance) -> Result<Vec<Action>> {
+        let file = "plan.json";
+        let mut out = Vec::new();
+        for (k, e) in self.actions.iter().enumerate() {
+            let f = |s: &str| format!("actions[{k}].{s}");
+            let missing = |s: &str| Error::input(file, f(s), "missing");
+            let ids: Vec<usize> = e
+                .objects
+                .iter()
+                .enumerate()
+                .map(|(j, id)| object_index(inst, id, &f(&format!("objects[{j}]")), file))
+                .collect::<Result<_>>()?;
+            match e.kind.as_str() {
+                "place" => {
+                    if ids.len() != 1 {
+                        return Err(Error::input(file, f("objects"), "a place moves exactly one object"));
+                    }
+                    let mode = match e.mode.as_deref() {
+                        Some("direct") => PlaceMode::Direct,
+                        Some("indirect") => {
+                            let offset = e.offset.ok_or_else(|| missing("offset"))?;
+                            if !(offset.is_finite() && offset > 0.0) {
+                                return Err(Error::input(file, f("offset"), "must be finite and > 0"));
+                            }
+                            PlaceMode::Indirect {
+                                push_dir: e.push_dir.ok_or_else(|| missing("push_dir"))?,
+                                offset,
+                            }
+                        }
+                        Some(other) => {
+                            return Err(Error::input(
+                                file,
+                                f("mode"),
+                                format!("must be direct or indirect, got {other:?}"),
+                            ))
+                        }
+                        None => return Err(missing("mode")),
+                    };
+                    out.push(Action::Place {
+                        object: ids[0],
+                        mode,
+                        grasp_axis: e.grasp_axis.ok_or_else(|| missing("grasp_axis"))?,
+                        arm: e.arm,
+                    });
+                }
+                "push" => {
+                    if ids.is_empty() {
+                        return Err(Error::input(file, f("objects"), "a push moves at least one object"));
+                    }
+                    let distance = e.distance.ok_or_else(|| missing("distance"))?;
+                    let pusher_at = e.pusher_at.ok_or_else(|| missing("pusher_at"))?;
+                    if !distance.is_finite() || !pusher_at.is_finite() {
+                        return Err(Error::input(
+                            file,
+                            f("distance"),
+                            "distance and pusher_at must be finite",
+                        ));
+                    }
+                    out.push(Action::Push {
+                        objects: ids,
+                        push_dir: e.push_dir.ok_or_else(|| missing("push_dir"))?,
+                        distance,
+                        pusher_at,
+                        arm: e.arm,
+                    });
+                }
+                other => {
+                    return Err(Error::input(
+                        file,
+                        f("kind"),
+                        format!("must be place or push, got {other:?}"),
+                    ))
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Everything one planning run produced.
+#[derive(Debug, Clone)]
+pub struct PlanOutcome {
+    /// The plan file.
+    pub plan: Plan,
+    /// Placement stage result.
+    pub placement: PlacementResult,
+    /// Sequence stage result.
+    pub sequence: SequenceResult,
+}
+
+/// Run every stage: placement, then actions and their order; return the plan.
+pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
+    let limit = TimeLimit::new(opts.time_limit);
+    let placement = match opts.placement {
+        PlacementSolver::Bl => placement::bl::solve(inst, opts.seed, opts.bl_orders, &limit)?,
+    };
+    let limit = TimeLimit::new(opts.time_limit);
+    let seq_opts = SequenceOptions {
+        no_direct: opts.no_direct,
+        no_multi_push: opts.no_multi_push,
+        max_nodes: opts.max_nodes,
+    };
+    let sequence = match opts.sequencer {
+        Sequencer::Paper => sequence::paper::solve(inst, &placement.placement, &seq_opts, &limit as &dyn Terminator)?,
+    };
+    let plan = build_plan(inst, opts, &placement, &sequence);
+    Ok(PlanOutcome {
+        plan,
+        placement,
+        sequence,
+    })
+}
+
+/// Assemble the plan file from stage results.
+pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr: &SequenceResult) -> Plan {
+    let p = &pr.placement;
+    let placements = p
+        .targets
+        .iter()
+        .enumerate()
+        .map(|(i, t)| PlacementEntry {
+            object: inst.objects[i].id.clone(),
+            kind: inst.kinds[inst.objects[i].kind].name.clone(),
+            orientation: t.orientation,
+            x: t.rect.x0,
+            y: t.rect.y0,
+            size_x: t.rect.width(),
+            size_y: t.rect.depth(),
+            height: t.height,
+        })
+        .collect();
+    let mut pos = [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)];
+    let layout = crate::actions::Layout::new(inst, p);
+    let actions = sr
+        .actions
+        .iter()
+        .zip(&sr.margins)
+        .enumerate()
+        .map(|(k, (a, m))| {
+            let kps = action_keypoints(inst, p, a);
+            let (cost, end) = path_length(&pos[a.arm().index()], &kps);
+            pos[a.arm().index()] = end;
+            let ids = a.objects().iter().map(|&i| inst.objects[i].id.clone()).collect();
+            match a {
+                Action::Place {
+                    object,
+                    mode,
+                    grasp_axis,
+                    arm,
+                } => {
+                    let (mode_s, dir, off) = match mode {
+                        PlaceMode::Direct => ("direct", None, None),
+                        PlaceMode::Indirect { push_dir, offset } => ("indirect", Some(*push_dir), Some(*offset)),
+                    };
+                    ActionEntry {
+                        step: k + 1,
+                        kind: "place".into(),
+                        objects: ids,
+                        mode: Some(mode_s.into()),
+                        push_dir: dir,
+                        offset: off,
+                        distance: None,
+                        grasp_axis: Some(*grasp_axis),
+                        pusher_at: None,
+                        release: Some(layout.release_rect(*object, mode)),
+                        margin: None,
+                        arm: *arm,
+                        cost,
+                        key_poses: kps,
+                    }
+                }
+                Action::Push {
+                    push_dir,
+                    distance,
+                    pusher_at,
+                    arm,
+                    ..
+                } => ActionEntry {
+                    step: k + 1,
+                    kind: "push".into(),
+                    objects: ids,
+                    mode: None,
+                    push_dir: Some(*push_dir),
+                    offset: None,
+                    distance: Some(*distance),
+                    grasp_axis: None,
+                    pusher_at: Some(*pusher_at),
+                    release: None,
+                    margin: *m,
+                    arm: *arm,
+                    cost,
+                    key_poses: kps,
+                },
+            }
+        })
+        .collect();
+    let status_name = |s: sequence::SearchStatus| {
+        serde_json::to_value(s)
+            .ok()
+            .and_then(|v| v.as_str().map(String::from))
+            .unwrap_or_default()
+    };
+    Plan {
+        format_version: FORMAT_VERSION,
+        tool: ToolInfo {
+            name: "pushpack".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+        },
+        instance: InstanceRef {
+            name: inst.name.clone(),
+            source: inst.source.clone(),
+            digest: inst.digest.clone(),
+        },
+        options: opts.clone(),
+        placement: PlacementSummary {
+            status: pr.status,
+            occupied_area: p.occupied_area(),
+            lower_bound: pr.lower_bound,
+            gap: pr.gap(),
+            contact_length: p.contact_length(inst),
+            solver: pr.solver.clone(),
+        },
+        placements,
+        actions,
+        metrics: sr.metrics,
+        solver: SolverStats {
+            placement: StageStats {
+                status: match pr.status {
+                    PlacementStatus::Optimal => "optimal".into(),
+                    PlacementStatus::Feasible => "feasible".into(),
+                },
+                time_s: pr.time_s,
+                nodes: pr.nodes,
+                bound: Some(pr.lower_bound),
+                gap: Some(pr.gap()),
+                assignments: None,
+            },
+            sequence: StageStats {
+                status: status_name(sr.status),
+                time_s: sr.time_s,
+                nodes: sr.nodes,
+                bound: None,
+                gap: None,
+                assignments: Some(sr.assignments),
+            },
+        },
+    }
+}
