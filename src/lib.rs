@@ -27,13 +27,16 @@
 #![warn(missing_docs)]
 
 pub mod actions;
+pub mod cli;
 pub mod control;
 pub mod error;
 pub mod geometry;
 pub mod instance;
 pub mod placement;
 pub mod plan;
+pub mod render;
 pub mod robot;
 pub mod sequence;
+pub mod verify;
 
 pub use error::{Error, Result};

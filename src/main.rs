@@ -1,1 +1,5 @@
-fn main() {}
+//! The `pushpack` command: a thin wrapper around [`pushpack::cli::main`].
+
+fn main() {
+    std::process::exit(pushpack::cli::main());
+}

@@ -6,6 +6,7 @@
 //! at least one orientation that fits, no overlap on the table, reachable start poses, …).
 
 pub mod file;
+pub mod generate;
 
 use crate::error::{Error, Result};
 use crate::geometry::{convex_overlap, oriented_corners, BodyAxis, Box3, Orientation, Rect};
@@ -259,6 +260,14 @@ impl Default for Settings {
     }
 }
 
+/// Largest accepted `planner.time_limit` in seconds (larger values cannot be represented as a
+/// `std::time::Duration` deadline in every solver).
+pub const MAX_TIME_LIMIT: f64 = 1e9;
+
+/// Smallest accepted box edge in metres: 100 × [`crate::geometry::EPS`], so that the geometric
+/// tolerance stays negligible against every object.
+pub const MIN_EDGE: f64 = 1e-4;
+
 /// Default standard initial pose of the NEXTAGE Open arms, degrees (left, right).
 pub const NEXTAGE_INITIAL_POSE_DEG: [[f64; 6]; 2] = [
     [0.6, 0.0, -100.0, -15.2, 9.4, -3.2],
@@ -286,15 +295,27 @@ impl Instance {
         let file: InstanceFile = if json {
             let mut de = serde_json::Deserializer::from_str(text);
             serde_path_to_error::deserialize(&mut de).map_err(|e| {
-                let field = e.path().to_string();
-                Error::input(source, field, e.into_inner().to_string())
+                let path = e.path().to_string();
+                let inner = e.into_inner();
+                let syntax = inner.is_syntax() || inner.is_eof();
+                let reason = inner.to_string();
+                Error::input(source, serde_field(&path, &reason, syntax), reason)
             })?
         } else {
             let de = toml::Deserializer::parse(text)
                 .map_err(|e| Error::input(source, "<syntax>", e.to_string().trim().to_string()))?;
             serde_path_to_error::deserialize(de).map_err(|e| {
-                let field = e.path().to_string();
-                Error::input(source, field, e.into_inner().message().to_string())
+                let path = e.path().to_string();
+                let inner = e.into_inner();
+                let mut reason = inner.message().to_string();
+                if let Some(line) = inner
+                    .span()
+                    .and_then(|s| text.get(..s.start))
+                    .map(|t| t.matches('\n').count() + 1)
+                {
+                    reason = format!("{reason} (line {line})");
+                }
+                Error::input(source, serde_field(&path, &reason, false), reason)
             })?
         };
         let digest: String = Sha256::digest(text.as_bytes())
@@ -308,6 +329,41 @@ impl Instance {
     pub fn n(&self) -> usize {
         self.objects.len()
     }
+}
+
+/// The dotted field path of a deserialisation error: the serde path, completed with the name of a
+/// missing field (serde reports those at the enclosing table); `<syntax>` for JSON syntax errors
+/// that have no meaningful path, `<root>` for errors about the document as a whole. Blank or
+/// odd keys (an unknown key `"  "`) are quoted so that the path is never empty.
+fn serde_field(path: &str, reason: &str, syntax: bool) -> String {
+    let root = path == ".";
+    if syntax && (root || path.contains('?')) {
+        return "<syntax>".to_string();
+    }
+    let base = (!root).then(|| tidy_path(path));
+    if let Some(rest) = reason.strip_prefix("missing field `") {
+        if let Some(name) = rest.split('`').next().filter(|n| !n.is_empty()) {
+            return match base {
+                Some(b) => format!("{b}.{name}"),
+                None => name.to_string(),
+            };
+        }
+    }
+    base.unwrap_or_else(|| "<root>".to_string())
+}
+
+/// Quote the segments of a dotted path that are empty or contain blanks or control characters.
+fn tidy_path(path: &str) -> String {
+    path.split('.')
+        .map(|s| {
+            if s.is_empty() || s.chars().any(|c| c.is_whitespace() || c.is_control()) {
+                format!("{s:?}")
+            } else {
+                s.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(".")
 }
 
 /// Field-error helper bound to one source file.
@@ -341,6 +397,55 @@ impl Check<'_> {
         } else {
             Err(self.err(field, format!("must be >= 0, got {v}")))
         }
+    }
+}
+
+/// A length for messages: six decimals without trailing zeros, or scientific when very large or small.
+fn num(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e6).contains(&v.abs()) {
+        let s = format!("{v:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+/// `[a, b, c]` as `a x b x c`.
+fn fmt3(v: [f64; 3]) -> String {
+    format!("{} x {} x {}", num(v[0]), num(v[1]), num(v[2]))
+}
+
+/// Distance from a point to a convex quadrilateral (0 inside).
+fn point_polygon_distance(p: [f64; 2], poly: &[[f64; 2]; 4]) -> f64 {
+    let mut inside = true;
+    let mut sign = 0.0;
+    let mut best = f64::INFINITY;
+    for k in 0..4 {
+        let a = poly[k];
+        let b = poly[(k + 1) % 4];
+        let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+        let (px, py) = (p[0] - a[0], p[1] - a[1]);
+        let cross = ex * py - ey * px;
+        if cross != 0.0 {
+            if sign == 0.0 {
+                sign = cross.signum();
+            } else if cross.signum() != sign {
+                inside = false;
+            }
+        }
+        let len2 = ex * ex + ey * ey;
+        let t = if len2 > 0.0 {
+            ((px * ex + py * ey) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (dx, dy) = (px - t * ex, py - t * ey);
+        best = best.min((dx * dx + dy * dy).sqrt());
+    }
+    if inside {
+        0.0
+    } else {
+        best
     }
 }
 
@@ -442,6 +547,16 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
         },
     };
 
+    if gripper.grasp_depth > gripper.finger_length + 1e-9 {
+        return Err(c.err(
+            "gripper.grasp_depth",
+            format!(
+                "must be at most finger_length = {:.4} m (the fingers cannot reach deeper), got {:.4} m",
+                gripper.finger_length, gripper.grasp_depth
+            ),
+        ));
+    }
+
     // Robot.
     let r = &f.robot;
     let table_z = match r.table_z {
@@ -539,7 +654,16 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
             None => d.bl_orders,
         },
         time_limit: match p.time_limit {
-            Some(v) => c.positive("planner.time_limit", v)?,
+            Some(v) => {
+                let v = c.positive("planner.time_limit", v)?;
+                if v > MAX_TIME_LIMIT {
+                    return Err(c.err(
+                        "planner.time_limit",
+                        format!("must be at most {MAX_TIME_LIMIT:e} s, got {v:e} s"),
+                    ));
+                }
+                v
+            }
             None => d.time_limit,
         },
         max_nodes: match p.max_nodes {
@@ -571,7 +695,17 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
         }
         let mut size = [0.0; 3];
         for j in 0..3 {
-            size[j] = l(c.positive(&fld(&format!("size[{j}]")), k.size[j])?);
+            let field = fld(&format!("size[{j}]"));
+            size[j] = l(c.positive(&field, k.size[j])?);
+            if size[j] < MIN_EDGE {
+                return Err(c.err(
+                    field,
+                    format!(
+                        "must be at least {MIN_EDGE} m (100 x the geometric tolerance), got {:e} m",
+                        size[j]
+                    ),
+                ));
+            }
         }
         let mass = c.positive(&fld("mass"), k.mass)?;
         let mf = match k.mu_floor {
@@ -636,9 +770,11 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
             let (fp, h) = ori.dims(size);
             let fits =
                 h <= container.wall_height + 1e-9 && fp[0] <= container.width + 1e-9 && fp[1] <= container.depth + 1e-9;
-            let graspable = fp[0] + 2.0 * gripper.release_clearance <= gripper.max_opening + 1e-9
-                || fp[1] + 2.0 * gripper.release_clearance <= gripper.max_opening + 1e-9;
-            if fits && graspable && !orientations.iter().any(|q| q.dims(size) == ori.dims(size)) {
+            let graspable = (fp[0] + 2.0 * gripper.release_clearance <= gripper.max_opening + 1e-9
+                || fp[1] + 2.0 * gripper.release_clearance <= gripper.max_opening + 1e-9)
+                && h > gripper.grasp_depth + 1e-9;
+            let pushable = h > gripper.push_height + 1e-9;
+            if fits && graspable && pushable && !orientations.iter().any(|q| q.dims(size) == ori.dims(size)) {
                 orientations.push(ori);
             }
         }
@@ -646,8 +782,15 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
             return Err(c.err(
                 fld("kind"),
                 format!(
-                    "object {:?} (size {:?} m) fits the container ({} x {} x {} m) and the gripper opening ({} m) in none of its allowed orientations",
-                    o.id, size, container.width, container.depth, container.wall_height, gripper.max_opening
+                    "object {:?} (size {} m) fits in none of its allowed orientations: it must fit the container \
+                     ({} m), leave release_clearance on both sides within max_opening ({} m), and stand taller \
+                     than grasp_depth ({} m) and push_height ({} m)",
+                    o.id,
+                    fmt3(size),
+                    fmt3([container.width, container.depth, container.wall_height]),
+                    num(gripper.max_opening),
+                    num(gripper.grasp_depth),
+                    num(gripper.push_height)
                 ),
             ));
         }
@@ -695,6 +838,35 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
                 format!("objects[{i}]"),
                 format!("object {:?} starts on top of the container", objects[i].id),
             ));
+        }
+        if hi <= gripper.grasp_depth + 1e-9 {
+            return Err(c.err(
+                format!("objects[{i}]"),
+                format!(
+                    "object {:?} is {:.4} m tall on the table, not taller than grasp_depth = {:.4} m: it cannot be picked up",
+                    objects[i].id, hi, gripper.grasp_depth
+                ),
+            ));
+        }
+        // The hands hang at their home pose over the table: nothing may reach up into them.
+        let hand_radius = gripper.max_opening / 2.0 + gripper.finger_thickness;
+        for arm in [Arm::Left, Arm::Right] {
+            let tcp = robot.home_tcp(arm);
+            if table_z + hi > tcp.z && point_polygon_distance([tcp.x, tcp.y], &fi) < hand_radius {
+                return Err(c.err(
+                    format!("objects[{i}]"),
+                    format!(
+                        "object {:?} is {:.4} m tall but lies under the {} hand, whose fingertips hang {:.4} m above \
+                         the table at the home pose: lower it or move it away from ({:.3}, {:.3})",
+                        objects[i].id,
+                        hi,
+                        arm.name(),
+                        tcp.z - table_z,
+                        tcp.x,
+                        tcp.y
+                    ),
+                ));
+            }
         }
         let grasp = Vector3::new(
             objects[i].table.x,

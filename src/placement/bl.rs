@@ -64,6 +64,7 @@ pub fn solve(inst: &Instance, seed: u64, orders: usize, stop: &dyn Terminator) -
         solver: "bl".into(),
         time_s: start.elapsed().as_secs_f64(),
         nodes: tried,
+        subproblems: 0,
     })
 }
 

@@ -5,6 +5,7 @@
 //! [`Placement::contact_length`]. Solvers: [`bl`] (the paper's extended Bottom-Left).
 
 pub mod bl;
+pub mod milp;
 
 use crate::geometry::{Axis2, Orientation, Rect, EPS};
 use crate::instance::Instance;
@@ -53,6 +54,9 @@ pub struct PlacementResult {
     pub time_s: f64,
     /// Work done: orders tried (BL) or branch-and-bound nodes (MILP).
     pub nodes: u64,
+    /// MILPs solved (0 for heuristics).
+    #[serde(default)]
+    pub subproblems: u64,
 }
 
 impl PlacementResult {

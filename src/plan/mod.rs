@@ -24,6 +24,34 @@ pub const FORMAT_VERSION: u32 = 1;
 pub enum PlacementSolver {
     /// The paper's extended Bottom-Left.
     Bl,
+    /// Exact MILP (HiGHS), warm-started by Bottom-Left.
+    Milp,
+}
+
+/// Largest instance for which `plan` uses the MILP placement by default (see docs/algorithms.md).
+pub const MILP_DEFAULT_MAX_OBJECTS: usize = 10;
+
+/// Run the chosen placement solver (MILP runs Bottom-Left first as its warm start).
+pub fn solve_placement(
+    inst: &Instance,
+    solver: PlacementSolver,
+    seed: u64,
+    bl_orders: usize,
+    time_limit: f64,
+) -> Result<PlacementResult> {
+    let limit = TimeLimit::new(time_limit);
+    let bl = placement::bl::solve(inst, seed, bl_orders, &limit)?;
+    match solver {
+        PlacementSolver::Bl => Ok(bl),
+        PlacementSolver::Milp => {
+            let settings = placement::milp::MilpSettings {
+                time_limit: (time_limit - limit.elapsed()).max(0.0),
+                contact_stage: true,
+                seed,
+            };
+            placement::milp::solve(inst, &bl, &settings, &limit)
+        }
+    }
 }
 
 /// Which sequencer to run.
@@ -63,7 +91,11 @@ impl PlanOptions {
             seed: s.seed,
             no_direct: s.no_direct,
             no_multi_push: s.no_multi_push,
-            placement: PlacementSolver::Bl,
+            placement: if inst.n() <= MILP_DEFAULT_MAX_OBJECTS {
+                PlacementSolver::Milp
+            } else {
+                PlacementSolver::Bl
+            },
             sequencer: Sequencer::Paper,
             time_limit: s.time_limit,
             max_nodes: s.max_nodes,
@@ -396,10 +428,7 @@ pub struct PlanOutcome {
 
 /// Run every stage: placement, then actions and their order; return the plan.
 pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
-    let limit = TimeLimit::new(opts.time_limit);
-    let placement = match opts.placement {
-        PlacementSolver::Bl => placement::bl::solve(inst, opts.seed, opts.bl_orders, &limit)?,
-    };
+    let placement = solve_placement(inst, opts.placement, opts.seed, opts.bl_orders, opts.time_limit)?;
     let limit = TimeLimit::new(opts.time_limit);
     let seq_opts = SequenceOptions {
         no_direct: opts.no_direct,

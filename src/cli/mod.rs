@@ -1,0 +1,340 @@
+//! Command-line interface: parses arguments, calls the library, prints, and maps errors to exit
+//! codes (0 ok, 1 plan invalid or infeasible, 2 bad input).
+
+use crate::error::Error;
+use crate::instance::Instance;
+use crate::plan::{optimize, solve_placement, PlacementSolver, Plan, PlanOptions, PlanOutcome};
+use crate::render::render;
+use crate::verify::verify;
+use clap::{Args, Parser, Subcommand};
+use std::path::{Path, PathBuf};
+
+/// Exit code for success.
+pub const EXIT_OK: i32 = 0;
+/// Exit code for a plan that fails verification or a problem without a feasible plan.
+pub const EXIT_FAIL: i32 = 1;
+/// Exit code for bad input (unreadable or invalid files).
+pub const EXIT_BAD_INPUT: i32 = 2;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "pushpack",
+    version,
+    about = "Plan dense box packing by placing and pushing (Kawada NEXTAGE Open)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Check an instance file and print a one-line summary.
+    Validate {
+        /// Instance file (.toml or .json).
+        instance: PathBuf,
+    },
+    /// Stage 1 only: compute a placement.
+    Place {
+        /// Instance file.
+        instance: PathBuf,
+        /// Placement solver: `bl` (the paper's Bottom-Left) or `milp` (exact, warm-started by BL).
+        #[arg(long, default_value = "bl", value_parser = ["bl", "milp"])]
+        solver: String,
+        /// Seed (default: the instance's planner.seed).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Time limit in seconds (default: the instance's planner.time_limit).
+        #[arg(long)]
+        time_limit: Option<f64>,
+        /// Print the result as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Plan everything, verify the plan, write plan.json and pictures.
+    Plan {
+        /// Instance file.
+        instance: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        #[command(flatten)]
+        opts: PlanArgs,
+        /// Do not write SVG pictures.
+        #[arg(long)]
+        no_render: bool,
+    },
+    /// Replay a plan against its instance and list every violated condition.
+    Verify {
+        /// Instance file.
+        instance: PathBuf,
+        /// plan.json.
+        plan: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Draw a plan: placement.svg, storyboard.svg, swept.svg.
+    Render {
+        /// plan.json.
+        plan: PathBuf,
+        /// Instance file (default: the path recorded in the plan).
+        #[arg(long)]
+        instance: Option<PathBuf>,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+}
+
+#[derive(Args, Debug)]
+struct PlanArgs {
+    /// Seed (default: the instance's planner.seed).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Forbid direct placing (the paper's Table II ablation).
+    #[arg(long)]
+    no_direct: bool,
+    /// Forbid multi-object pushes (the paper's Table II ablation).
+    #[arg(long)]
+    no_multi_push: bool,
+    /// Time limit per stage in seconds.
+    #[arg(long)]
+    time_limit: Option<f64>,
+    /// Placement solver (default: milp up to 10 objects, bl above).
+    #[arg(long, value_parser = ["bl", "milp"])]
+    placement: Option<String>,
+    /// Node limit of the sequence search.
+    #[arg(long)]
+    max_nodes: Option<u64>,
+}
+
+impl PlanArgs {
+    fn options(&self, inst: &Instance) -> Result<PlanOptions, Error> {
+        let mut o = PlanOptions::from_instance(inst);
+        if let Some(s) = self.seed {
+            o.seed = s;
+        }
+        o.no_direct |= self.no_direct;
+        o.no_multi_push |= self.no_multi_push;
+        if let Some(t) = positive_time(self.time_limit)? {
+            o.time_limit = t;
+        }
+        match self.placement.as_deref() {
+            Some("bl") => o.placement = PlacementSolver::Bl,
+            Some("milp") => o.placement = PlacementSolver::Milp,
+            _ => {}
+        }
+        if let Some(n) = self.max_nodes {
+            if n == 0 {
+                return Err(Error::input("<command line>", "--max-nodes", "must be >= 1"));
+            }
+            o.max_nodes = n;
+        }
+        Ok(o)
+    }
+}
+
+fn positive_time(t: Option<f64>) -> Result<Option<f64>, Error> {
+    match t {
+        Some(t) if !(t.is_finite() && t > 0.0) => Err(Error::input(
+            "<command line>",
+            "--time-limit",
+            format!("must be a positive number, got {t}"),
+        )),
+        other => Ok(other),
+    }
+}
+
+/// Run the CLI on the process arguments; returns the exit code.
+pub fn main() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { EXIT_BAD_INPUT } else { EXIT_OK };
+            let _ = e.print();
+            return code;
+        }
+    };
+    match run(cli.cmd) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            if e.is_input() {
+                EXIT_BAD_INPUT
+            } else {
+                EXIT_FAIL
+            }
+        }
+    }
+}
+
+fn run(cmd: Cmd) -> Result<i32, Error> {
+    match cmd {
+        Cmd::Validate { instance } => {
+            let inst = Instance::load(&instance)?;
+            println!(
+                "{}: valid — {} objects of {} kinds, container {:.3} x {:.3} x {:.3} m, digest {}",
+                instance.display(),
+                inst.n(),
+                inst.kinds.len(),
+                inst.container.width,
+                inst.container.depth,
+                inst.container.wall_height,
+                &inst.digest[..12]
+            );
+            Ok(EXIT_OK)
+        }
+        Cmd::Place {
+            instance,
+            solver,
+            seed,
+            time_limit,
+            json,
+        } => {
+            let inst = Instance::load(&instance)?;
+            let solver = if solver == "milp" {
+                PlacementSolver::Milp
+            } else {
+                PlacementSolver::Bl
+            };
+            let t = positive_time(time_limit)?.unwrap_or(inst.settings.time_limit);
+            let r = solve_placement(
+                &inst,
+                solver,
+                seed.unwrap_or(inst.settings.seed),
+                inst.settings.bl_orders,
+                t,
+            )?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&r).expect("serialisable"));
+            } else {
+                println!(
+                    "placement ({}, {:?}): occupied area {:.6} m², lower bound {:.6} m² (gap {:.2} %), contact length {:.4} m, {} nodes, {} MILPs, {:.3} s",
+                    r.solver,
+                    r.status,
+                    r.placement.occupied_area(),
+                    r.lower_bound,
+                    100.0 * r.gap(),
+                    r.placement.contact_length(&inst),
+                    r.nodes,
+                    r.subproblems,
+                    r.time_s
+                );
+                for (i, t) in r.placement.targets.iter().enumerate() {
+                    println!(
+                        "  {:>6}  {:>4}  x {:.4}  y {:.4}  {:.4} x {:.4} x {:.4}",
+                        inst.objects[i].id,
+                        t.orientation.label(),
+                        t.rect.x0,
+                        t.rect.y0,
+                        t.rect.width(),
+                        t.rect.depth(),
+                        t.height
+                    );
+                }
+            }
+            Ok(EXIT_OK)
+        }
+        Cmd::Plan {
+            instance,
+            out,
+            opts,
+            no_render,
+        } => {
+            let inst = Instance::load(&instance)?;
+            let o = opts.options(&inst)?;
+            let outcome = optimize(&inst, &o)?;
+            std::fs::create_dir_all(&out).map_err(|e| Error::Io {
+                path: out.clone(),
+                source: e,
+            })?;
+            let path = out.join("plan.json");
+            outcome.plan.save(&path)?;
+            print_summary(&inst, &outcome);
+            let report = verify(&inst, &outcome.plan);
+            println!(
+                "verify     {}",
+                if report.is_valid() {
+                    "valid".to_string()
+                } else {
+                    format!("INVALID\n{report}")
+                }
+            );
+            println!("wrote      {}", path.display());
+            if !no_render {
+                for f in render(&inst, &outcome.plan, &out)? {
+                    println!("wrote      {}", f.display());
+                }
+            }
+            Ok(if report.is_valid() { EXIT_OK } else { EXIT_FAIL })
+        }
+        Cmd::Verify { instance, plan, json } => {
+            let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
+            let report = verify(&inst, &p);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
+            } else {
+                println!("{report}");
+            }
+            Ok(if report.is_valid() { EXIT_OK } else { EXIT_FAIL })
+        }
+        Cmd::Render { plan, instance, out } => {
+            let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
+            std::fs::create_dir_all(&out).map_err(|e| Error::Io {
+                path: out.clone(),
+                source: e,
+            })?;
+            for f in render(&inst, &p, &out)? {
+                println!("wrote {}", f.display());
+            }
+            Ok(EXIT_OK)
+        }
+    }
+}
+
+/// Load a plan and its instance (the one given, else the one the plan records).
+fn load_plan_instance(plan: &Path, instance: Option<&Path>) -> Result<(Plan, Instance), Error> {
+    let p = Plan::load(plan)?;
+    let inst = match instance {
+        Some(i) => Instance::load(i)?,
+        None => Instance::load(&p.instance.source)?,
+    };
+    if inst.digest != p.instance.digest {
+        eprintln!("warning: the instance file changed since the plan was made (digest differs)");
+    }
+    Ok((p, inst))
+}
+
+fn print_summary(inst: &Instance, o: &PlanOutcome) {
+    let m = &o.plan.metrics;
+    let ps = &o.plan.placement;
+    println!("instance   {} ({} objects)", inst.name, inst.n());
+    println!(
+        "placement  {}: occupied area {:.1} cm² ({}; lower bound {:.1} cm², gap {:.1} %), contact {:.1} cm",
+        ps.solver,
+        ps.occupied_area * 1e4,
+        if ps.status == crate::placement::PlacementStatus::Optimal {
+            "optimal"
+        } else {
+            "feasible"
+        },
+        ps.lower_bound * 1e4,
+        ps.gap * 100.0,
+        ps.contact_length * 100.0
+    );
+    println!(
+        "sequence   {} actions: {} direct places, {} indirect places, {} pushes ({} multi-object)",
+        m.seq_len, m.n_place_direct, m.n_place_indirect, m.n_push, m.n_multi_push
+    );
+    println!("swept area {:.1} cm²   travel {:.3} m", m.swept_area * 1e4, m.travel);
+    println!(
+        "time       placement {:.3} s ({} nodes), sequence {:.3} s ({} nodes, {} assignments, {})",
+        o.plan.solver.placement.time_s,
+        o.plan.solver.placement.nodes,
+        o.plan.solver.sequence.time_s,
+        o.plan.solver.sequence.nodes,
+        o.plan.solver.sequence.assignments.unwrap_or(0),
+        o.plan.solver.sequence.status
+    );
+}

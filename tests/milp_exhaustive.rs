@@ -1,0 +1,230 @@
+//! The MILP placement against an exhaustive enumeration on small random instances.
+//!
+//! The enumeration is exhaustive by the sequence-pair theorem (Murata et al., 1996): for every
+//! non-overlapping placement there is a sequence pair (Γ+, Γ−) whose relations ("a left of b"
+//! when a precedes b in both, "a below b" when a follows b in Γ+ and precedes it in Γ−) the
+//! placement satisfies. The smallest placement satisfying a pair's relations (longest paths)
+//! has every coordinate no larger, so its extents are no larger. Minimising over all pairs and
+//! all footprints therefore gives the minimum occupied area. The enumeration fixes Γ+, then
+//! builds Γ− front to back: an item appended to Γ− has all its left/below neighbours already
+//! placed, so its position is final and the partial extents only grow — which makes pruning by
+//! the incumbent area safe. Identical objects are taken in index order in Γ+ (any placement can
+//! be relabelled so).
+
+mod common;
+
+use pushpack::control::TimeLimit;
+use pushpack::instance::Instance;
+use pushpack::placement::{bl, milp, PlacementStatus};
+
+fn footprints(inst: &Instance) -> Vec<Vec<[f64; 2]>> {
+    inst.objects
+        .iter()
+        .map(|o| {
+            let mut v: Vec<[f64; 2]> = Vec::new();
+            for q in &o.orientations {
+                let f = q.dims(o.size).0;
+                if !v
+                    .iter()
+                    .any(|g| (g[0] - f[0]).abs() < 1e-9 && (g[1] - f[1]).abs() < 1e-9)
+                {
+                    v.push(f);
+                }
+            }
+            v
+        })
+        .collect()
+}
+
+struct Enum<'a> {
+    fps: &'a [Vec<[f64; 2]>],
+    cw: f64,
+    cd: f64,
+    best: f64,
+    leaves: u64,
+}
+
+impl Enum<'_> {
+    fn gamma_minus(
+        &mut self,
+        pos_plus: &[usize],
+        placed: &mut Vec<(usize, f64, f64, f64, f64)>,
+        used: u32,
+        w: f64,
+        d: f64,
+    ) {
+        let n = self.fps.len();
+        if placed.len() == n {
+            self.leaves += 1;
+            self.best = self.best.min(w * d);
+            return;
+        }
+        for k in 0..n {
+            if used & (1 << k) != 0 {
+                continue;
+            }
+            let mut x: f64 = 0.0;
+            let mut y: f64 = 0.0;
+            for &(j, xj, yj, wj, dj) in placed.iter() {
+                if pos_plus[j] < pos_plus[k] {
+                    x = x.max(xj + wj);
+                } else {
+                    y = y.max(yj + dj);
+                }
+            }
+            for f in &self.fps[k] {
+                let (nw, nd) = (w.max(x + f[0]), d.max(y + f[1]));
+                if nw > self.cw + 1e-9 || nd > self.cd + 1e-9 || nw * nd >= self.best - 1e-12 {
+                    continue;
+                }
+                placed.push((k, x, y, f[0], f[1]));
+                self.gamma_minus(pos_plus, placed, used | (1 << k), nw, nd);
+                placed.pop();
+            }
+        }
+    }
+}
+
+fn permutations(n: usize) -> Vec<Vec<usize>> {
+    fn rec(cur: &mut Vec<usize>, n: usize, out: &mut Vec<Vec<usize>>) {
+        if cur.len() == n {
+            out.push(cur.clone());
+            return;
+        }
+        for i in 0..n {
+            if !cur.contains(&i) {
+                cur.push(i);
+                rec(cur, n, out);
+                cur.pop();
+            }
+        }
+    }
+    let mut out = Vec::new();
+    rec(&mut Vec::new(), n, &mut out);
+    out
+}
+
+/// Minimum occupied area by exhaustive sequence-pair enumeration (starting from `upper`).
+fn brute_force_area(inst: &Instance, upper: f64) -> f64 {
+    let fps = footprints(inst);
+    let n = inst.n();
+    let identical = |a: usize, b: usize| inst.objects[a].size == inst.objects[b].size && fps[a] == fps[b];
+    let mut e = Enum {
+        fps: &fps,
+        cw: inst.container.width,
+        cd: inst.container.depth,
+        best: upper + 1e-9,
+        leaves: 0,
+    };
+    for gp in permutations(n) {
+        // Symmetry: identical objects appear in index order in Γ+.
+        let ok = (0..n).all(|a| {
+            (0..n).all(|b| {
+                !(a < b && identical(a, b)) || gp.iter().position(|&v| v == a) < gp.iter().position(|&v| v == b)
+            })
+        });
+        if !ok {
+            continue;
+        }
+        let mut pos_plus = vec![0; n];
+        for (p, &i) in gp.iter().enumerate() {
+            pos_plus[i] = p;
+        }
+        e.gamma_minus(&pos_plus, &mut Vec::new(), 0, 0.0, 0.0);
+    }
+    e.best
+}
+
+#[test]
+fn milp_matches_exhaustive_enumeration_on_random_small_instances() {
+    let mut checked = 0;
+    let mut improved_over_bl = 0;
+    for seed in 0..52u64 {
+        let n = 2 + (seed as usize % 5); // 2..=6 objects
+        let kinds = 1 + (seed as usize % 3);
+        let ori = if seed % 3 == 0 { "upright" } else { "any" };
+        // Box edges on a 5 mm grid (product sizes), and on a 1 mm grid for up to 4 objects:
+        // 1 mm edges make the MILP's grid fine and its run long (docs/benchmarks.md).
+        let step = if n <= 4 && seed % 2 == 0 { 1 } else { 5 };
+        let inst = common::parse(&common::random_instance_text_step(1000 + seed, n, kinds, ori, step));
+        let blr = bl::solve(&inst, seed, 64, &TimeLimit::new(30.0)).unwrap();
+        let settings = milp::MilpSettings {
+            time_limit: 60.0,
+            contact_stage: true,
+            seed,
+        };
+        let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(60.0)).unwrap();
+        assert!(
+            r.placement.violations(&inst).is_empty(),
+            "seed {seed}: {:?}",
+            r.placement.violations(&inst)
+        );
+        let area = r.placement.occupied_area();
+        let exact = brute_force_area(&inst, blr.placement.occupied_area());
+        assert_eq!(
+            r.status,
+            PlacementStatus::Optimal,
+            "seed {seed}: small instances are proven within the limit"
+        );
+        assert!(
+            (area - exact).abs() <= 1e-9,
+            "seed {seed} (n={n}): MILP {area} vs exhaustive {exact}"
+        );
+        assert!(r.lower_bound >= area - 1e-9, "optimal means the bound meets the area");
+        assert!(
+            area <= blr.placement.occupied_area() + 1e-12,
+            "never worse than Bottom-Left"
+        );
+        if area < blr.placement.occupied_area() - 1e-9 {
+            improved_over_bl += 1;
+        }
+        checked += 1;
+    }
+    assert!(checked >= 50);
+    // The exhaustive check is meaningful only if BL is sometimes suboptimal.
+    assert!(
+        improved_over_bl > 0,
+        "BL was optimal on every instance: the test would not catch a MILP that returns BL"
+    );
+}
+
+#[test]
+fn stopped_milp_reports_feasible_with_a_valid_bound() {
+    let inst = common::load("paper/exp2_8objects.toml");
+    let blr = bl::solve(&inst, 1, 64, &TimeLimit::new(30.0)).unwrap();
+    let settings = milp::MilpSettings {
+        time_limit: 0.05,
+        contact_stage: true,
+        seed: 0,
+    };
+    let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(0.05)).unwrap();
+    let area = r.placement.occupied_area();
+    assert!(r.placement.violations(&inst).is_empty());
+    assert!(area <= blr.placement.occupied_area() + 1e-12);
+    assert!(r.lower_bound <= area + 1e-12);
+    if r.status == PlacementStatus::Optimal {
+        assert!(r.lower_bound >= area - 1e-9);
+    } else {
+        assert!(r.gap() >= 0.0);
+    }
+}
+
+#[test]
+fn candidate_widths_are_subset_sums() {
+    let inst = common::load("paper/exp1_4objects.toml");
+    let blr = bl::solve(&inst, 1, 8, &TimeLimit::new(30.0)).unwrap();
+    // BL's occupied width is a sum of footprint widths, so it must be among the candidates.
+    let w = blr.placement.extent().0;
+    let fps: Vec<Vec<([f64; 2], pushpack::geometry::Orientation, f64)>> = inst
+        .objects
+        .iter()
+        .map(|o| {
+            o.orientations
+                .iter()
+                .map(|q| (q.dims(o.size).0, *q, q.dims(o.size).1))
+                .collect()
+        })
+        .collect();
+    let c = milp::candidate_widths(&fps, inst.container.width);
+    assert!(c.iter().any(|v| (v - w).abs() < 1e-9), "{w} not in {c:?}");
+}
