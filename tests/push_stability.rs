@@ -52,7 +52,10 @@ fn centred_single_push_is_stable_with_positive_margin() {
         let r = check(&single_box(mode, 0.03, 0.02));
         assert!(r.stable(), "{r}");
         let m = r.margin.expect("margin");
-        assert!((m - 0.01).abs() < 1e-7, "{mode}: margin {m}, expected half the finger width 0.01");
+        assert!(
+            (m - 0.01).abs() < 1e-7,
+            "{mode}: margin {m}, expected half the finger width 0.01"
+        );
         assert!(r.failure.is_none());
         // The certificate: the finger carries the box's floor friction, along the push, through
         // the centroid (in 3-D the finger may also press down, which raises the floor friction).
@@ -62,9 +65,16 @@ fn centred_single_push_is_stable_with_positive_margin() {
         } else {
             0.35 * r.phases[0].floor[0].floor.normal
         };
-        assert!((c.force.force[0] + load).abs() < 1e-6 * load, "{mode}: {:?} vs {load}", c.force.force);
+        assert!(
+            (c.force.force[0] + load).abs() < 1e-6 * load,
+            "{mode}: {:?} vs {load}",
+            c.force.force
+        );
         assert!(c.force.force[1].abs() < 1e-6);
-        assert!((c.force.point[1] - 0.03).abs() < 1e-7, "line of action through the centroid");
+        assert!(
+            (c.force.point[1] - 0.03).abs() < 1e-7,
+            "line of action through the centroid"
+        );
     }
     // The planner's contract path agrees.
     let line = LineGeometry {
@@ -85,7 +95,10 @@ fn margin_shrinks_monotonically_off_centre_and_vanishes_at_the_closed_form() {
         let r = check(&single_box("2d", 0.03 + off, finger));
         let m = r.margin.expect("margin");
         let closed = analytic::single_box_margin(face, finger, off);
-        assert!((m - closed).abs() < 1e-7, "offset {off}: margin {m}, closed form {closed}");
+        assert!(
+            (m - closed).abs() < 1e-7,
+            "offset {off}: margin {m}, closed form {closed}"
+        );
         assert!(m < last - 5e-4, "offset {off}: margin {m} did not shrink from {last}");
         assert_eq!(r.stable(), closed > MARGIN_TOL, "offset {off}: {r}");
         last = m;
@@ -209,7 +222,10 @@ fn clarabel_agrees_with_the_paper_on_random_lines() {
         }
     }
     assert!(compared >= 1000, "only {compared} cases compared");
-    assert!(stable > 200 && unstable > 200, "{stable} stable / {unstable} unstable: not a balanced sample");
+    assert!(
+        stable > 200 && unstable > 200,
+        "{stable} stable / {unstable} unstable: not a balanced sample"
+    );
 }
 
 /// The same random lines through the general scenario path: boxes with depths, the whole line
@@ -237,7 +253,11 @@ fn scenario_geometry_agrees_with_the_paper_under_rotation() {
         let mut boxes = Vec::new();
         for (m, lat) in line.lateral.iter().enumerate() {
             let d = rng.range(0.02, 0.08);
-            let gap = if m > 0 && gaps[m - 1] { rng.range(0.002, 0.02) } else { 0.0 };
+            let gap = if m > 0 && gaps[m - 1] {
+                rng.range(0.002, 0.02)
+            } else {
+                0.0
+            };
             x += gap;
             let p = rot(x + d / 2.0, (lat[0] + lat[1]) / 2.0);
             boxes.push(json!({
@@ -258,7 +278,10 @@ fn scenario_geometry_agrees_with_the_paper_under_rotation() {
         });
         let r = check(&v);
         let m = r.margin.expect("2-D lines along the face normals always have forces");
-        assert!((m - oracle).abs() < 1e-7, "case {case}: scenario {m} vs paper {oracle}\n{v}\n{r}");
+        assert!(
+            (m - oracle).abs() < 1e-7,
+            "case {case}: scenario {m} vs paper {oracle}\n{v}\n{r}"
+        );
         assert_eq!(r.stable(), oracle > MARGIN_TOL);
         compared += 1;
     }
@@ -295,7 +318,10 @@ fn tall_narrow_box_topples_when_pushed_high_and_not_when_pushed_low() {
     for z in [0.025, 0.03, 0.034, 0.0345, 0.04, 0.06] {
         let m = check(&tall_box(z, "3d")).margin.expect("margin");
         let closed = analytic::topple_margin(0.03, 0.5, mu_f, z);
-        assert!((m - closed).abs() < 1e-6, "z = {z}: 3-D margin {m}, closed form {closed}");
+        assert!(
+            (m - closed).abs() < 1e-6,
+            "z = {z}: 3-D margin {m}, closed form {closed}"
+        );
         assert_eq!(m > MARGIN_TOL, z < z_star);
     }
     // The floor reaction of the certificate: normal ≥ m g (the finger presses down), centre of
@@ -333,11 +359,15 @@ fn every_phase_of_a_multi_object_push_is_checked() {
     assert_eq!(r.phases.len(), 2);
     assert_eq!(r.phases[0].moving, vec!["back"]);
     assert_eq!(r.phases[1].moving, vec!["front", "back"]);
-    assert!(r.phases[1].margin.unwrap() > 0.005, "the closed-up line alone would be stable");
+    assert!(
+        r.phases[1].margin.unwrap() > 0.005,
+        "the closed-up line alone would be stable"
+    );
     let f = r.failure.unwrap();
     assert_eq!((f.phase, f.kind), (1, FailureKind::Rotate));
     // The same boxes released touching: one phase, stable.
-    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(pushes("back_box_alone_fails.json")).unwrap()).unwrap();
+    let mut v: Value =
+        serde_json::from_str(&std::fs::read_to_string(pushes("back_box_alone_fails.json")).unwrap()).unwrap();
     v["boxes"][1]["pose"][0] = json!(0.075);
     v["pusher"]["point"][0] = json!(0.10);
     let r = check(&v);
@@ -346,7 +376,11 @@ fn every_phase_of_a_multi_object_push_is_checked() {
     let r = check_scenario(&load_scenario(pushes("three_box_staggered.json")).unwrap());
     assert!(r.stable(), "{r}");
     assert_eq!(r.phases.len(), 3);
-    assert!((r.gaps[1] - 0.01).abs() < 1e-9 && (r.gaps[2] - 0.01).abs() < 1e-9, "{:?}", r.gaps);
+    assert!(
+        (r.gaps[1] - 0.01).abs() < 1e-9 && (r.gaps[2] - 0.01).abs() < 1e-9,
+        "{:?}",
+        r.gaps
+    );
 }
 
 #[test]
@@ -375,10 +409,16 @@ fn robust_mode_is_never_more_permissive_than_nominal() {
                 case_.cof[i][1] = b.cof[1] + rng.range(-1.0, 1.0) * set.cof[i][1];
             }
             let m = convex::margin(&robust::apply(&model, &case_), Dim::D2, &opts).unwrap();
-            assert!(m >= r - 1e-9, "case {case}: interior point {m} below the robust margin {r}");
+            assert!(
+                m >= r - 1e-9,
+                "case {case}: interior point {m} below the robust margin {r}"
+            );
         }
     }
-    assert!(strictly_worse > 20, "uncertainty should usually cost margin ({strictly_worse})");
+    assert!(
+        strictly_worse > 20,
+        "uncertainty should usually cost margin ({strictly_worse})"
+    );
     // The example: nominally stable, robustly not.
     let s = load_scenario(pushes("robust_off_centre.json")).unwrap();
     let r = check_scenario(&s);
@@ -413,7 +453,10 @@ fn robust_3d_is_never_more_permissive_and_vertices_cover_the_interior() {
             c.cof[0][0] += rng.range(-1.0, 1.0) * set.cof[0][0];
             c.cof[0][1] += rng.range(-1.0, 1.0) * set.cof[0][1];
             let m = convex::margin(&robust::apply(&s.model, &c), Dim::D3, &opts).unwrap();
-            assert!(m >= r - 1e-7, "case {case}: interior point {m} below the robust margin {r}");
+            assert!(
+                m >= r - 1e-7,
+                "case {case}: interior point {m} below the robust margin {r}"
+            );
         }
     }
 }
@@ -462,22 +505,135 @@ fn example_scenarios_decide_as_documented() {
 fn bad_scenarios_name_the_field() {
     let base = single_box("2d", 0.03, 0.02);
     let cases: Vec<(Value, &str)> = vec![
-        ({ let mut v = base.clone(); v["boxes"][0]["size"][1] = json!(-0.04); v }, "boxes[0].size[1]"),
-        ({ let mut v = base.clone(); v["boxes"][0]["mass"] = json!(0.0); v }, "boxes[0].mass"),
-        ({ let mut v = base.clone(); v["friction"]["mu_floor"] = json!(0.0); v }, "friction.mu_floor"),
-        ({ let mut v = base.clone(); v["friction"]["mu_obj"] = json!(-1.0); v }, "friction.mu_obj"),
-        ({ let mut v = base.clone(); v["mode"] = json!("4d"); v }, "mode"),
-        ({ let mut v = base.clone(); v["push_dir"] = json!("up"); v }, "push_dir"),
-        ({ let mut v = base.clone(); v["push_dir"] = json!([0.0, 0.0]); v }, "push_dir"),
-        ({ let mut v = base.clone(); v["pusher"]["height"] = json!(0.05); v }, "pusher.height"),
-        ({ let mut v = base.clone(); v["pusher"]["width"] = json!(0.0); v }, "pusher.width"),
-        ({ let mut v = base.clone(); v["pusher"]["point"] = json!([0.05, 0.03]); v }, "pusher.point"),
-        ({ let mut v = base.clone(); v["pusher"]["point"] = json!([0.0, 0.03]); v }, "pusher.point"),
-        ({ let mut v = base.clone(); v["colour"] = json!("red"); v }, "colour"),
-        ({ let mut v = base.clone(); v.as_object_mut().unwrap().remove("pusher"); v }, "pusher"),
-        ({ let mut v = base.clone(); v["mode"] = json!("robust"); v }, "robust"),
-        ({ let mut v = base.clone(); v["mode"] = json!("robust"); v["robust"] = json!({"mu_floor": [0.4, 0.5]}); v }, "robust.mu_floor"),
-        ({ let mut v = base.clone(); v["units"] = json!("inch"); v }, "units"),
+        (
+            {
+                let mut v = base.clone();
+                v["boxes"][0]["size"][1] = json!(-0.04);
+                v
+            },
+            "boxes[0].size[1]",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["boxes"][0]["mass"] = json!(0.0);
+                v
+            },
+            "boxes[0].mass",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["friction"]["mu_floor"] = json!(0.0);
+                v
+            },
+            "friction.mu_floor",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["friction"]["mu_obj"] = json!(-1.0);
+                v
+            },
+            "friction.mu_obj",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["mode"] = json!("4d");
+                v
+            },
+            "mode",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["push_dir"] = json!("up");
+                v
+            },
+            "push_dir",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["push_dir"] = json!([0.0, 0.0]);
+                v
+            },
+            "push_dir",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["pusher"]["height"] = json!(0.05);
+                v
+            },
+            "pusher.height",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["pusher"]["width"] = json!(0.0);
+                v
+            },
+            "pusher.width",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["pusher"]["point"] = json!([0.05, 0.03]);
+                v
+            },
+            "pusher.point",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["pusher"]["point"] = json!([0.0, 0.03]);
+                v
+            },
+            "pusher.point",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["colour"] = json!("red");
+                v
+            },
+            "colour",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v.as_object_mut().unwrap().remove("pusher");
+                v
+            },
+            "pusher",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["mode"] = json!("robust");
+                v
+            },
+            "robust",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["mode"] = json!("robust");
+                v["robust"] = json!({"mu_floor": [0.4, 0.5]});
+                v
+            },
+            "robust.mu_floor",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["units"] = json!("inch");
+                v
+            },
+            "units",
+        ),
         (
             {
                 let mut v = base.clone();
@@ -536,7 +692,11 @@ fn bad_scenarios_name_the_field() {
 fn the_planner_margin_is_the_clarabel_margin_in_every_mode() {
     // Same line through the contract (2-D) and the full model in 3-D: for a low fingertip and
     // flat boxes, 3-D adds nothing, so both agree.
-    let inst = pushpack::instance::Instance::load(format!("{}/instances/paper/exp1_4objects.toml", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let inst = pushpack::instance::Instance::load(format!(
+        "{}/instances/paper/exp1_4objects.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
     let stop = pushpack::control::TimeLimit::new(30.0);
     let placement = pushpack::placement::bl::solve(&inst, 1, 8, &stop).unwrap().placement;
     let mut checked = 0;

@@ -296,6 +296,14 @@ impl<'a> Layout<'a> {
                         format!("{} is not on the table", inst.objects[i].id),
                     ));
                 }
+                if let PlaceMode::Indirect { offset, .. } = mode {
+                    if *offset < inst.gripper.min_offset - EPS {
+                        return Err(infeasible(
+                            "finger_slab",
+                            format!("offset {:.4} m is below the minimum {:.4} m", offset, inst.gripper.min_offset),
+                        ));
+                    }
+                }
                 let r = self.release_rect(i, mode);
                 let h = self.placement.targets[i].height;
                 if r.extent(*grasp_axis) + 2.0 * inst.gripper.release_clearance > inst.gripper.max_opening + EPS {

@@ -3,7 +3,7 @@
 
 use crate::error::Error;
 use crate::instance::Instance;
-use crate::plan::{optimize, solve_placement, PlacementSolver, Plan, PlanOptions, PlanOutcome};
+use crate::plan::{optimize, solve_placement, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer};
 use crate::render::render;
 use crate::verify::verify;
 use clap::{Args, Parser, Subcommand};
@@ -63,6 +63,9 @@ enum Cmd {
         /// Do not write SVG pictures.
         #[arg(long)]
         no_render: bool,
+        /// Also plan the paper's Table II ablations and print their sequence lengths.
+        #[arg(long)]
+        compare_ablations: bool,
     },
     /// Replay a plan against its instance and list every violated condition.
     Verify {
@@ -70,6 +73,25 @@ enum Cmd {
         instance: PathBuf,
         /// plan.json.
         plan: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, or CSV).
+    Export {
+        /// plan.json.
+        plan: PathBuf,
+        /// `ros-yaml`, `ros-json` or `csv`.
+        #[arg(long, default_value = "ros-yaml")]
+        format: String,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Decide one push from a scenario file (JSON): verdict, margin and certificate.
+    PushCheck {
+        /// Scenario file.
+        scenario: PathBuf,
         /// Print the report as JSON.
         #[arg(long)]
         json: bool,
@@ -104,6 +126,9 @@ struct PlanArgs {
     /// Placement solver (default: milp up to 10 objects, bl above).
     #[arg(long, value_parser = ["bl", "milp"])]
     placement: Option<String>,
+    /// Sequencer: `astar` (default; provably optimal) or `paper` (Algorithms 1 + 2).
+    #[arg(long, value_parser = ["astar", "paper"])]
+    sequencer: Option<String>,
     /// Node limit of the sequence search.
     #[arg(long)]
     max_nodes: Option<u64>,
@@ -123,6 +148,11 @@ impl PlanArgs {
         match self.placement.as_deref() {
             Some("bl") => o.placement = PlacementSolver::Bl,
             Some("milp") => o.placement = PlacementSolver::Milp,
+            _ => {}
+        }
+        match self.sequencer.as_deref() {
+            Some("paper") => o.sequencer = Sequencer::Paper,
+            Some("astar") => o.sequencer = Sequencer::Astar,
             _ => {}
         }
         if let Some(n) = self.max_nodes {
@@ -241,9 +271,13 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             out,
             opts,
             no_render,
+            compare_ablations,
         } => {
             let inst = Instance::load(&instance)?;
             let o = opts.options(&inst)?;
+            if compare_ablations {
+                print_ablations(&inst, &o)?;
+            }
             let outcome = optimize(&inst, &o)?;
             std::fs::create_dir_all(&out).map_err(|e| Error::Io {
                 path: out.clone(),
@@ -279,6 +313,30 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             }
             Ok(if report.is_valid() { EXIT_OK } else { EXIT_FAIL })
         }
+        Cmd::Export { plan, format, out } => {
+            let p = Plan::load(&plan)?;
+            let fmt: crate::robot::export::ExportFormat = format
+                .parse()
+                .map_err(|e| Error::input("<command line>", "--format", format!("{e}")))?;
+            std::fs::create_dir_all(&out).map_err(|e| Error::Io {
+                path: out.clone(),
+                source: e,
+            })?;
+            for f in crate::robot::export::export(&p, fmt, &out)? {
+                println!("wrote {}", f.display());
+            }
+            Ok(EXIT_OK)
+        }
+        Cmd::PushCheck { scenario, json } => {
+            let sc = crate::actions::push::load_scenario(&scenario)?;
+            let report = crate::actions::push::check_scenario(&sc);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
+            } else {
+                println!("{report}");
+            }
+            Ok(if report.stable() { EXIT_OK } else { EXIT_FAIL })
+        }
         Cmd::Render { plan, instance, out } => {
             let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
             std::fs::create_dir_all(&out).map_err(|e| Error::Io {
@@ -304,6 +362,38 @@ fn load_plan_instance(plan: &Path, instance: Option<&Path>) -> Result<(Plan, Ins
         eprintln!("warning: the instance file changed since the plan was made (digest differs)");
     }
     Ok((p, inst))
+}
+
+/// The paper's Table II: sequence length with and without direct placing / multi-object pushes.
+fn print_ablations(inst: &Instance, base: &PlanOptions) -> Result<(), Error> {
+    println!(
+        "| motion method | actions | direct | indirect | pushes (multi) | swept area (cm²) | travel (m) | status |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for (name, nd, nm) in [
+        ("full method", false, false),
+        ("w/o direct placing", true, false),
+        ("w/o pushing multiple objects", false, true),
+        ("w/o both", true, true),
+    ] {
+        let mut o = base.clone();
+        o.no_direct = nd;
+        o.no_multi_push = nm;
+        let out = optimize(inst, &o)?;
+        let m = out.plan.metrics;
+        println!(
+            "| {name} | {} | {} | {} | {} ({}) | {:.1} | {:.3} | {} |",
+            m.seq_len,
+            m.n_place_direct,
+            m.n_place_indirect,
+            m.n_push,
+            m.n_multi_push,
+            m.swept_area * 1e4,
+            m.travel,
+            out.plan.solver.sequence.status
+        );
+    }
+    Ok(())
 }
 
 fn print_summary(inst: &Instance, o: &PlanOutcome) {

@@ -60,6 +60,8 @@ pub fn solve_placement(
 pub enum Sequencer {
     /// The paper's Algorithms 1 + 2.
     Paper,
+    /// Best-first search over assignment and order together, with admissible bounds.
+    Astar,
 }
 
 /// Options of one planning run (defaults from the instance's `[planner]` table).
@@ -96,7 +98,7 @@ impl PlanOptions {
             } else {
                 PlacementSolver::Bl
             },
-            sequencer: Sequencer::Paper,
+            sequencer: Sequencer::Astar,
             time_limit: s.time_limit,
             max_nodes: s.max_nodes,
             bl_orders: s.bl_orders,
@@ -195,6 +197,9 @@ pub struct ActionEntry {
     /// Push stability margin (m); pushes only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margin: Option<f64>,
+    /// Mechanical model that decided the push (`2d`: clarabel LP, docs/push_stability.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub push_model: Option<String>,
     /// Executing arm.
     pub arm: Arm,
     /// TCP travel of this action from the arm's previous position (m).
@@ -221,6 +226,9 @@ pub struct StageStats {
     /// Assignments evaluated (sequencing).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub assignments: Option<u64>,
+    /// Proven lexicographic lower bound (actions, swept area, travel) of the sequence stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost_bound: Option<sequence::astar::Cost>,
 }
 
 /// Per-stage statistics.
@@ -253,6 +261,12 @@ pub struct Plan {
     pub metrics: Metrics,
     /// Solver statistics.
     pub solver: SolverStats,
+    /// Robot model, TCP and frames of the joint trajectories (SPEC §8).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robot: Option<crate::robot::RobotInfo>,
+    /// Joint trajectories: one per action in order, plus park and return-home moves.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub trajectories: Vec<crate::robot::ActionTrajectory>,
 }
 
 fn object_index(inst: &Instance, id: &str, field: &str, file: &str) -> Result<usize> {
@@ -437,6 +451,13 @@ pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
     };
     let sequence = match opts.sequencer {
         Sequencer::Paper => sequence::paper::solve(inst, &placement.placement, &seq_opts, &limit as &dyn Terminator)?,
+        Sequencer::Astar => sequence::astar::solve(
+            inst,
+            &placement.placement,
+            &seq_opts,
+            &sequence::astar::AstarSettings::default(),
+            &limit as &dyn Terminator,
+        )?,
     };
     let plan = build_plan(inst, opts, &placement, &sequence);
     Ok(PlanOutcome {
@@ -499,6 +520,7 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
                         pusher_at: None,
                         release: Some(layout.release_rect(*object, mode)),
                         margin: None,
+                        push_model: None,
                         arm: *arm,
                         cost,
                         key_poses: kps,
@@ -522,6 +544,7 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
                     pusher_at: Some(*pusher_at),
                     release: None,
                     margin: *m,
+                    push_model: Some("2d".into()),
                     arm: *arm,
                     cost,
                     key_poses: kps,
@@ -529,6 +552,8 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             }
         })
         .collect();
+    let (robot, trajectories) =
+        crate::robot::plan_trajectories(inst, p, &sr.actions, &crate::robot::TrajectoryOptions::default());
     let status_name = |s: sequence::SearchStatus| {
         serde_json::to_value(s)
             .ok()
@@ -569,15 +594,25 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
                 bound: Some(pr.lower_bound),
                 gap: Some(pr.gap()),
                 assignments: None,
+                cost_bound: None,
             },
             sequence: StageStats {
                 status: status_name(sr.status),
                 time_s: sr.time_s,
                 nodes: sr.nodes,
-                bound: None,
-                gap: None,
+                bound: sr.bound.map(|b| b.travel),
+                gap: sr.bound.map(|b| {
+                    if b.len == sr.metrics.seq_len && (b.area - sr.metrics.swept_area).abs() <= 1e-12 && sr.metrics.travel > 0.0 {
+                        ((sr.metrics.travel - b.travel) / sr.metrics.travel).max(0.0)
+                    } else {
+                        1.0
+                    }
+                }),
                 assignments: Some(sr.assignments),
+                cost_bound: sr.bound,
             },
         },
+        robot: Some(robot),
+        trajectories,
     }
 }

@@ -99,6 +99,9 @@ fn arm_label(a: Arm) -> &'static str {
     }
 }
 
+/// A deferred label: page rectangle (left, top, width, height), text, bold, maximum font size.
+type Label = ((f64, f64, f64, f64), String, bool, f64);
+
 /// Maps C (metres, y up) to the page (pixels, y down).
 #[derive(Clone, Copy)]
 struct View {
@@ -616,7 +619,7 @@ fn storyboard_svg(inst: &Instance, plan: &Plan, p: &Placement, actions: &[Action
         let before = &story.before[k];
         let acting = a.objects();
         // Labels are drawn last, on top of fingers and pusher: (page rect, text, bold, size).
-        let mut labels: Vec<((f64, f64, f64, f64), String, bool, f64)> = Vec::new();
+        let mut labels: Vec<Label> = Vec::new();
         // The push distance, boxed on white: (x, y baseline, anchor, text).
         let mut tag: Option<(f64, f64, Anchor, String)> = None;
         // Targets, faint.

@@ -1,13 +1,36 @@
-//! Stage 4: the robot — NEXTAGE Open kinematic model loaded from URDF, forward kinematics,
-//! reachability, and the TCP key points of every action.
+//! Stage 4: the robot — NEXTAGE Open kinematic model loaded from URDF, forward and inverse
+//! kinematics, collision primitives, joint plans of actions, time parameterisation and export.
 //!
 //! The model is read with urdf-rs and converted into one serial chain per arm (WAIST → chest →
 //! `*ARM_JOINT0..5`). The chest joint is held at 0. The TCP sits at a fixed offset in the
-//! `*ARM_JOINT5_Link` frame, whose −x axis is the fingertip direction.
+//! `*ARM_JOINT5_Link` frame, whose −x axis is the fingertip direction. The TCP *frame* has z along
+//! the approach (−x of `JOINT5_Link`), y along the finger closing axis (y of `JOINT5_Link`) and x
+//! toward the hand's thick side (z of `JOINT5_Link`); see `docs/robot.md`.
+//!
+//! * [`ik`] — inverse kinematics (damped least squares with a closed-form wrist-roll step);
+//! * [`collision`] — the work cell and the robot's collision primitives (parry3d);
+//! * [`motion`] — key poses of an action, joint plans, arm selection, reachability;
+//! * [`trajectory`] — time parameterisation and the `plan.json` trajectory records;
+//! * [`check`] — the independent checks the verifier runs on recorded trajectories;
+//! * [`export`] — ROS `trajectory_msgs/JointTrajectory` YAML/JSON and CSV.
 
+pub mod check;
+pub mod collision;
+pub mod export;
+pub mod ik;
 pub mod keypoints;
+pub mod motion;
+pub mod reach_cache;
+pub mod trajectory;
 
-use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+pub use check::check_trajectories;
+pub use export::{export, ExportFormat};
+pub use ik::{top_down_rotation, IkSolver};
+pub use motion::{action_reachable, arms_reaching, plan_trajectories, select_arm};
+pub use trajectory::{ActionTrajectory, KeyPose, RobotInfo, TrajPoint, TrajectoryOptions};
+
+use crate::geometry::parry_bridge::Solid;
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// One of the two arms.
@@ -66,6 +89,84 @@ pub struct JointSpec {
     pub velocity: f64,
 }
 
+/// A collision primitive attached to one link of an arm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkShape {
+    /// Name for messages (`LARM_JOINT3_Link`, `LARM_gripper_Link`, …).
+    pub name: String,
+    /// Which frame of the chain carries it: 0..=5 = `*ARM_JOINTk_Link`.
+    pub link: usize,
+    /// Pose of the solid in that link frame.
+    pub origin: Isometry3<f64>,
+    /// The solid.
+    pub solid: Solid,
+}
+
+/// Errors of the robot stage: every one carries the numbers that explain it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RobotError {
+    /// No configuration within the joint limits reaches the pose.
+    #[error(
+        "{arm} arm cannot reach TCP ({:.4}, {:.4}, {:.4}) m: best residual {pos_residual:.3e} m / {rot_residual:.3e} rad \
+         after {attempts} seeds{}",
+        target[0], target[1], target[2],
+        at_limit.as_ref().map(|(j, v)| format!(", {j} held at its limit {v:.4} rad")).unwrap_or_default()
+    )]
+    Unreachable {
+        /// Arm name.
+        arm: String,
+        /// Target TCP position (world).
+        target: [f64; 3],
+        /// Best position residual reached (m).
+        pos_residual: f64,
+        /// Best rotation residual reached (rad).
+        rot_residual: f64,
+        /// A joint pinned at a limit in the best attempt (name, value).
+        at_limit: Option<(String, f64)>,
+        /// Number of seeds tried.
+        attempts: usize,
+    },
+    /// A configuration violates a joint limit.
+    #[error("{joint} = {value:.6} rad is outside [{lower:.6}, {upper:.6}]")]
+    JointLimit {
+        /// Joint name.
+        joint: String,
+        /// Value.
+        value: f64,
+        /// Lower limit.
+        lower: f64,
+        /// Upper limit.
+        upper: f64,
+    },
+    /// A straight-line move cannot be followed within its tolerance.
+    #[error("{what}: TCP leaves the straight line by {deviation:.4e} m (limit {limit:.1e} m) or jumps {jump:.4} rad")]
+    Path {
+        /// Which segment.
+        what: String,
+        /// Largest deviation found (m).
+        deviation: f64,
+        /// Allowed deviation (m).
+        limit: f64,
+        /// Largest joint step (rad).
+        jump: f64,
+    },
+    /// A part of the robot (or the carried object) hits something.
+    #[error("{what}: {part} hits {obstacle} (penetration at TCP ({:.4}, {:.4}, {:.4}))", tcp[0], tcp[1], tcp[2])]
+    Collision {
+        /// Which segment.
+        what: String,
+        /// Robot part.
+        part: String,
+        /// Obstacle.
+        obstacle: String,
+        /// TCP position at the colliding sample.
+        tcp: [f64; 3],
+    },
+    /// The arm is not usable (not allowed by the instance).
+    #[error("{0}")]
+    Other(String),
+}
+
 /// Kinematic model of both arms.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotModel {
@@ -73,6 +174,15 @@ pub struct RobotModel {
     pub base: [Isometry3<f64>; 2],
     /// Six joints per arm (left, right).
     pub arms: [Vec<JointSpec>; 2],
+    /// Collision primitives per arm (box, cylinder, sphere or capsule geometry of the arm links
+    /// and of links fixed to `*ARM_JOINT5_Link`; meshes are skipped).
+    pub shapes: [Vec<LinkShape>; 2],
+}
+
+/// Rotation of the TCP frame in the `*ARM_JOINT5_Link` frame: z = −x (approach), y = y (closing
+/// axis), x = z (thick side).
+pub fn tcp_rotation_in_wrist() -> Rotation3<f64> {
+    Rotation3::from_matrix_unchecked(Matrix3::new(0.0, 0.0, -1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0))
 }
 
 const BUNDLED_URDF: &str = include_str!("../../models/nextage_open.urdf");
@@ -94,6 +204,7 @@ impl RobotModel {
         };
         let mut base = [Isometry3::identity(); 2];
         let mut arms: [Vec<JointSpec>; 2] = [Vec::new(), Vec::new()];
+        let mut shapes: [Vec<LinkShape>; 2] = [Vec::new(), Vec::new()];
         for arm in [Arm::Left, Arm::Right] {
             // Walk up from JOINT0 to the root, collecting fixed transforms (chest held at 0).
             let j0name = format!("{}_JOINT0", arm.prefix());
@@ -144,9 +255,63 @@ impl RobotModel {
                     velocity: j.limit.velocity,
                 });
                 prev_child = Some(j.child.link.clone());
+                collect_shapes(
+                    &robot,
+                    &j.child.link,
+                    k,
+                    Isometry3::identity(),
+                    k == 5,
+                    &mut shapes[arm.index()],
+                );
             }
         }
-        Ok(RobotModel { base, arms })
+        Ok(RobotModel { base, arms, shapes })
+    }
+
+    /// Joint names of an arm, in chain order.
+    pub fn joint_names(&self, arm: Arm) -> Vec<String> {
+        self.arms[arm.index()].iter().map(|j| j.name.clone()).collect()
+    }
+
+    /// Frames of `*ARM_JOINT0_Link` … `*ARM_JOINT5_Link` in the WAIST frame.
+    pub fn link_frames(&self, arm: Arm, q: &[f64; 6]) -> [Isometry3<f64>; 6] {
+        let mut t = self.base[arm.index()];
+        let mut out = [Isometry3::identity(); 6];
+        for (k, (j, qi)) in self.arms[arm.index()].iter().zip(q).enumerate() {
+            t = t * j.origin * UnitQuaternion::from_axis_angle(&j.axis, *qi);
+            out[k] = t;
+        }
+        out
+    }
+
+    /// Full TCP pose (position and TCP-frame rotation) in the WAIST frame.
+    pub fn tcp_pose(&self, arm: Arm, q: &[f64; 6], tcp_offset: &[f64; 3]) -> Isometry3<f64> {
+        let w = self.wrist_pose(arm, q);
+        w * Isometry3::from_parts(
+            Translation3::from(Vector3::from(*tcp_offset)),
+            UnitQuaternion::from_rotation_matrix(&tcp_rotation_in_wrist()),
+        )
+    }
+
+    /// Smallest distance of any joint to its nearest limit (rad); negative when outside.
+    pub fn joint_margin(&self, arm: Arm, q: &[f64; 6]) -> f64 {
+        self.arms[arm.index()]
+            .iter()
+            .zip(q)
+            .map(|(j, v)| (v - j.lower).min(j.upper - v))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Typed joint-limit check (tolerance 1e-9 rad).
+    pub fn limit_error(&self, arm: Arm, q: &[f64; 6]) -> Option<RobotError> {
+        self.arms[arm.index()].iter().zip(q).find_map(|(j, v)| {
+            (!(*v >= j.lower - 1e-9 && *v <= j.upper + 1e-9)).then(|| RobotError::JointLimit {
+                joint: j.name.clone(),
+                value: *v,
+                lower: j.lower,
+                upper: j.upper,
+            })
+        })
     }
 
     /// Pose of `*ARM_JOINT5_Link` in the WAIST frame.
@@ -191,6 +356,67 @@ impl RobotModel {
             .sum::<f64>()
             + Vector3::from(*tcp_offset).norm();
         (tcp - shoulder).norm() <= reach
+    }
+}
+
+/// Pose of a URDF `<origin>`.
+fn urdf_iso(p: &urdf_rs::Pose) -> Isometry3<f64> {
+    let [x, y, z] = *p.xyz;
+    let [r, pi, yw] = *p.rpy;
+    Isometry3::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(r, pi, yw))
+}
+
+/// Collision primitives of `link` (frame `k` of the chain, at `offset` in that frame); with
+/// `descend`, also of every link fixed to it (recursively). Meshes are skipped; links behind
+/// movable joints (the fingers) are skipped: pushpack builds the fingers from the instance.
+fn collect_shapes(
+    robot: &urdf_rs::Robot,
+    link: &str,
+    k: usize,
+    offset: Isometry3<f64>,
+    descend: bool,
+    out: &mut Vec<LinkShape>,
+) {
+    if let Some(l) = robot.links.iter().find(|l| l.name == link) {
+        for c in &l.collision {
+            let solid = match &c.geometry {
+                urdf_rs::Geometry::Box { size } => Solid::Cuboid {
+                    half: Vector3::new(size[0], size[1], size[2]) / 2.0,
+                },
+                urdf_rs::Geometry::Cylinder { radius, length } => Solid::Cylinder {
+                    radius: *radius,
+                    half_length: length / 2.0,
+                },
+                urdf_rs::Geometry::Capsule { radius, length } => Solid::Capsule {
+                    a: Vector3::new(0.0, 0.0, -length / 2.0),
+                    b: Vector3::new(0.0, 0.0, length / 2.0),
+                    radius: *radius,
+                },
+                urdf_rs::Geometry::Sphere { radius } => Solid::Ball { radius: *radius },
+                urdf_rs::Geometry::Mesh { .. } => continue,
+            };
+            let ok = match solid {
+                Solid::Cuboid { half } => half.iter().all(|h| h.is_finite() && *h > 0.0),
+                Solid::Cylinder { radius, half_length } => radius > 0.0 && half_length > 0.0,
+                Solid::Capsule { radius, a, .. } => radius > 0.0 && a.z.is_finite(),
+                Solid::Ball { radius } => radius > 0.0,
+            };
+            if ok {
+                out.push(LinkShape {
+                    name: link.to_string(),
+                    link: k,
+                    origin: offset * urdf_iso(&c.origin),
+                    solid,
+                });
+            }
+        }
+    }
+    if descend {
+        for j in robot.joints.iter().filter(|j| j.parent.link == link) {
+            if matches!(j.joint_type, urdf_rs::JointType::Fixed) {
+                collect_shapes(robot, &j.child.link, k, offset * urdf_iso(&j.origin), true, out);
+            }
+        }
     }
 }
 

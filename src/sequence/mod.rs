@@ -4,6 +4,7 @@
 //! the plan metrics and the search statistics. Sequencers: [`paper`] (the paper's Algorithm 1
 //! assignment enumeration + Algorithm 2 depth-first branch-and-bound on travel).
 
+pub mod astar;
 pub mod paper;
 
 use crate::actions::{Action, Layout, PlaceMode};
@@ -114,4 +115,6 @@ pub struct SequenceResult {
     pub assignments: u64,
     /// Wall-clock seconds.
     pub time_s: f64,
+    /// Proven lexicographic lower bound (A*); equal to the plan's cost when optimal.
+    pub bound: Option<astar::Cost>,
 }

@@ -251,6 +251,7 @@ enum Item {
 }
 
 struct Dfs<'a> {
+    reach: &'a crate::robot::reach_cache::ReachCache<'a>,
     inst: &'a Instance,
     placement: &'a Placement,
     items: Vec<Item>,
@@ -281,10 +282,14 @@ impl<'a> Dfs<'a> {
                         grasp_axis: ax,
                         arm: *arm,
                     };
-                    layout.check(&a).ok().map(|m| (a, m))
+                    layout.check(&a).ok().filter(|_| self.reach.ok(&a)).map(|m| (a, m))
                 })
             }
-            Item::Push(a) => layout.check(a).ok().map(|m| (a.clone(), m)),
+            Item::Push(a) => layout
+                .check(a)
+                .ok()
+                .filter(|_| self.reach.ok(a))
+                .map(|m| (a.clone(), m)),
         }
     }
 
@@ -380,6 +385,7 @@ pub fn solve(
     }
     cands.sort_by(|a, b| a.seq_len.cmp(&b.seq_len).then(a.area.total_cmp(&b.area)));
     let home = [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)];
+    let reach = crate::robot::reach_cache::ReachCache::new(inst, placement);
     let mut nodes = 0u64;
     let mut evaluated = 0u64;
     let mut status = SearchStatus::Complete;
@@ -414,6 +420,7 @@ pub fn solve(
                 }));
             }
             let mut dfs = Dfs {
+                reach: &reach,
                 inst,
                 placement,
                 items,
@@ -447,6 +454,7 @@ pub fn solve(
                 nodes,
                 assignments: evaluated,
                 time_s: start.elapsed().as_secs_f64(),
+                bound: None,
             });
         }
         if status != SearchStatus::Complete {

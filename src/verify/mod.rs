@@ -49,6 +49,9 @@ pub enum ViolationClass {
     FinalPose,
     /// Recorded metrics, costs or placement summary differ from the recomputed values.
     Metrics,
+    /// A joint trajectory violates a joint limit, disagrees with its recorded TCP poses (FK),
+    /// jumps between points, or collides (checked by `robot::check_trajectories`).
+    Robot,
 }
 
 impl ViolationClass {
@@ -65,6 +68,7 @@ impl ViolationClass {
             ViolationClass::Precedence => "precedence",
             ViolationClass::FinalPose => "final_pose",
             ViolationClass::Metrics => "metrics",
+            ViolationClass::Robot => "robot",
         }
     }
 }
@@ -186,14 +190,24 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
     }
     r.check_final();
     r.check_metrics(plan, &actions);
+    // Joint trajectories are optional in a plan; when present they are checked in full.
+    if !plan.trajectories.is_empty() {
+        for (k, message) in crate::robot::check::check_trajectories(inst, plan) {
+            r.out.push(Violation {
+                step: k.map(|k| k + 1),
+                class: ViolationClass::Robot,
+                message,
+            });
+        }
+    }
     Report {
         violations: r.out,
         steps_checked: actions.len(),
     }
 }
 
-fn short(digest: &str) -> &str {
-    &digest[..digest.len().min(12)]
+fn short(digest: &str) -> String {
+    digest.chars().take(12).collect()
 }
 
 /// Where an object is during the replay.
@@ -230,6 +244,12 @@ fn axis_name(a: Axis2) -> &'static str {
         Axis2::X => "x",
         Axis2::Y => "y",
     }
+}
+
+/// A recorded margin agrees with the recomputed one (1 nm plus 1e-6 relative; NaN never agrees).
+fn close_margin(recorded: f64, computed: f64) -> bool {
+    let d = (recorded - computed).abs();
+    d.is_finite() && d <= 1e-9 + 1e-6 * computed.abs()
 }
 
 /// `a` and `b` agree within 1e-6 relative (with a tiny absolute floor for zeros).
@@ -406,7 +426,7 @@ impl<'a> Replay<'a> {
             None => self.flag(s, Format, format!("place of {id} records no release footprint")),
             Some(rec) => {
                 let d = [rec.x0 - rel.x0, rec.y0 - rel.y0, rec.x1 - rel.x1, rec.y1 - rel.y1];
-                if d.iter().any(|v| !(v.abs() <= EPS)) {
+                if d.iter().any(|v| v.is_nan() || v.abs() > EPS) {
                     self.flag(
                         s,
                         Format,
@@ -618,7 +638,7 @@ impl<'a> Replay<'a> {
         let geo = push::line_geometry(self.inst, self.placement, line, dir, at);
         let margin = push::geometry_margin(&geo, &gaps);
         let min = self.inst.settings.min_push_margin;
-        if !(margin > min) {
+        if margin.is_nan() || margin <= min {
             self.flag(
                 s,
                 PushStability,
@@ -630,7 +650,7 @@ impl<'a> Replay<'a> {
         }
         match e.margin {
             None => self.flag(s, PushStability, "push records no stability margin".into()),
-            Some(m) if !((m - margin).abs() <= 1e-9 + 1e-6 * margin.abs()) => self.flag(
+            Some(m) if !close_margin(m, margin) => self.flag(
                 s,
                 PushStability,
                 format!("recorded margin {m:.6} m differs from the recomputed {margin:.6} m"),

@@ -325,9 +325,12 @@ const EXTEND: f64 = 2.0;
 /// Bound on |t| (in units of the length scale) that keeps every program bounded.
 const T_CAP: f64 = 10.0;
 
+/// Problem structure: dimension, phase sizes, variant.
+type SolverKey = (Dim, Vec<usize>, Variant);
+
 thread_local! {
     static LINE_CACHE: RefCell<HashMap<Vec<u64>, f64>> = RefCell::new(HashMap::new());
-    static SOLVERS: RefCell<HashMap<(Dim, Vec<usize>, Variant), DefaultSolver<f64>>> = RefCell::new(HashMap::new());
+    static SOLVERS: RefCell<HashMap<SolverKey, DefaultSolver<f64>>> = RefCell::new(HashMap::new());
     static REUSE: RefCell<bool> = const { RefCell::new(true) };
 }
 
@@ -369,7 +372,7 @@ impl<'a> PhaseData<'a> {
         for c in contacts {
             l0 = l0.max(c.len.abs()).max(c.z[1]);
         }
-        if !(l0 > 0.0) || !l0.is_finite() {
+        if l0.is_nan() || l0 <= 0.0 || !l0.is_finite() {
             l0 = 1.0;
         }
         let w: Vec<f64> = bodies.iter().map(|b| b.load(model.gravity)).collect();
@@ -492,6 +495,7 @@ fn settings() -> DefaultSettings<f64> {
         .tol_gap_abs(1e-10)
         .tol_gap_rel(1e-10)
         .tol_feas(1e-10)
+        .iterative_refinement_enable(false)
         .build()
         .expect("valid clarabel settings")
 }
@@ -503,7 +507,7 @@ enum Solved {
     Failed,
 }
 
-fn run(key: (Dim, Vec<usize>, Variant), prog: &mut Program) -> Solved {
+fn run(key: SolverKey, prog: &mut Program) -> Solved {
     let a = prog.csc();
     let reuse = REUSE.with(|r| *r.borrow());
     SOLVERS.with(|table| {

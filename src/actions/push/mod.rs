@@ -36,7 +36,7 @@ pub use model::{Body, Contact, ContactKind, PushModel};
 pub use scenario::{check_scenario, load_scenario, parse_scenario, Failure, FailureKind, Mode, PushReport, Scenario};
 
 use crate::geometry::PushDir;
-use crate::instance::{Instance, GRAVITY};
+use crate::instance::Instance;
 use crate::placement::Placement;
 
 /// Fraction by which every friction coefficient is shrunk ("strictly inside the cone"):
@@ -208,7 +208,6 @@ pub fn line_model(
             mu,
         });
     }
-    let _ = GRAVITY;
     PushModel::new(u, bodies, contacts, gaps)
 }
 

@@ -308,8 +308,8 @@ fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             return Err(err(file, fld("id"), format!("duplicate id \"{}\"", b.id)));
         }
         let mut size = [0.0; 3];
-        for k in 0..3 {
-            size[k] = positive(file, &format!("{}[{k}]", fld("size")), b.size[k])? * scale;
+        for (k, v) in size.iter_mut().enumerate() {
+            *v = positive(file, &format!("{}[{k}]", fld("size")), b.size[k])? * scale;
         }
         let mass = positive(file, &fld("mass"), b.mass)?;
         for k in 0..3 {
@@ -881,7 +881,9 @@ fn edge_name(model: &PushModel, body: usize, axis: usize, side: i8) -> &'static 
     }
 }
 
-fn describe(model: &PushModel, b: &Binding, margin: Option<f64>) -> (FailureKind, String, String) {
+/// Failure kind, place and explanation of a binding constraint; `failed` words it as a failure,
+/// otherwise as what limits a positive margin.
+fn describe(model: &PushModel, b: &Binding, margin: Option<f64>, failed: bool) -> (FailureKind, String, String) {
     let mm = |m: Option<f64>| m.map_or("—".to_string(), |m| format!("{:.3} mm", m * 1e3));
     match b {
         Binding::Segment { contact, end } => {
@@ -889,26 +891,36 @@ fn describe(model: &PushModel, b: &Binding, margin: Option<f64>) -> (FailureKind
             let front = &model.bodies[c.front].name;
             let name = model.contact_name(*contact);
             let end_s = if *end == 0 { "first" } else { "second" };
-            (
-                FailureKind::Rotate,
-                name.clone(),
+            let p = if *end == 0 { c.p0 } else { c.p1() };
+            let at = format!("({:.4}, {:.4})", p[0], p[1]);
+            let detail = if failed {
                 format!(
-                    "{front} rotates: the line of action through contact {name} reaches the {end_s} end of the contact segment (margin {})",
+                    "{front} rotates: the line of action through contact {name} reaches the {end_s} end {at} of the contact segment (margin {})",
                     mm(margin)
-                ),
-            )
+                )
+            } else {
+                format!(
+                    "contact {name}: line of action {} from the {end_s} end {at} of the contact segment (beyond it {front} would rotate)",
+                    mm(margin)
+                )
+            };
+            (FailureKind::Rotate, name.clone(), detail)
         }
         Binding::Footprint { body, axis, side } => {
             let name = model.bodies[*body].name.clone();
             let edge = edge_name(model, *body, *axis, *side);
-            (
-                FailureKind::Tip,
-                name.clone(),
+            let detail = if failed {
                 format!(
                     "{name} tips over its {edge} edge: the floor's centre of pressure reaches the footprint edge (margin {})",
                     mm(margin)
-                ),
-            )
+                )
+            } else {
+                format!(
+                    "{name}: floor centre of pressure {} from its {edge} edge (beyond it the box would tip)",
+                    mm(margin)
+                )
+            };
+            (FailureKind::Tip, name.clone(), detail)
         }
         Binding::Slip { contact, excess } => {
             let name = model.contact_name(*contact);
@@ -933,7 +945,10 @@ fn report(s: &Scenario, model: &PushModel, result: &CheckResult, robust: Option<
             moving: model.bodies[p.start..].iter().map(|b| b.name.clone()).collect(),
             status: p.status,
             margin: p.margin,
-            limited_by: p.binding.as_ref().map(|b| describe(model, b, p.margin).2),
+            limited_by: p
+                .binding
+                .as_ref()
+                .map(|b| describe(model, b, p.margin, p.margin.is_none_or(|m| m <= s.options.tol)).2),
             contacts: p
                 .contacts
                 .iter()
@@ -963,7 +978,7 @@ fn report(s: &Scenario, model: &PushModel, result: &CheckResult, robust: Option<
             .find(|(_, p)| p.margin.is_none_or(|m| m <= s.options.tol))
             .map(|(k, p)| match &p.binding {
                 Some(b) => {
-                    let (kind, at, detail) = describe(model, b, p.margin);
+                    let (kind, at, detail) = describe(model, b, p.margin, true);
                     Failure {
                         phase: k + 1,
                         kind,
@@ -1028,11 +1043,17 @@ impl fmt::Display for PushReport {
         if let Some(r) = &self.robust {
             writeln!(
                 f,
-                "  robust: {} cases, nominal margin {}; worst case mu_floor {:?}, contact mu {:?}",
+                "  robust: {} cases, nominal margin {}; worst case: mu_floor {:?}, contact mu {:?}, centres of friction {}",
                 r.cases,
                 fmt_m(r.nominal_margin),
                 r.worst.mu_floor,
-                r.worst.mu_contact
+                r.worst.mu_contact,
+                r.worst
+                    .cof
+                    .iter()
+                    .map(|c| format!("({:.4}, {:.4})", c[0], c[1]))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )?;
         }
         for (k, p) in self.phases.iter().enumerate() {

@@ -1,0 +1,83 @@
+//! Robot stage throughput: IK solves per second (warm-started along a path, as the joint planner
+//! uses it, and cold with every seed, as the reachability predicate starts), and the time to
+//! produce the whole joint plan of the paper's second experiment (8 objects, 10 actions).
+//!
+//! `cargo bench --bench robot -- --warm-up-time 1 --measurement-time 5`
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use nalgebra::Vector3;
+use pushpack::instance::Instance;
+use pushpack::plan::{optimize, PlanOptions};
+use pushpack::robot::ik::{top_down_pose, IkSolver};
+use pushpack::robot::{plan_trajectories, Arm, RobotModel, TrajectoryOptions, DEFAULT_TCP_OFFSET};
+use std::hint::black_box;
+
+/// 64 top-down targets over the container and the left half of the table.
+fn targets() -> Vec<nalgebra::Isometry3<f64>> {
+    let mut v = Vec::new();
+    for i in 0..8 {
+        for j in 0..8 {
+            let p = Vector3::new(
+                0.18 + 0.025 * i as f64,
+                -0.08 + 0.06 * j as f64,
+                -0.17 + 0.01 * (i % 3) as f64,
+            );
+            v.push(top_down_pose(&p, 0.2 * j as f64));
+        }
+    }
+    v
+}
+
+fn bench(c: &mut Criterion) {
+    let model = RobotModel::bundled();
+    let solver = IkSolver::new(&model, Arm::Left, &DEFAULT_TCP_OFFSET);
+    let ts = targets();
+    let sols: Vec<[f64; 6]> = ts.iter().map(|t| solver.solve(t).expect("reachable")).collect();
+    let mut g = c.benchmark_group("ik");
+    g.throughput(Throughput::Elements(ts.len() as u64));
+    // Warm start: each target from the solution of its neighbour in the same row (6 cm and
+    // 0.2 rad of yaw away), as along a path.
+    g.bench_function(BenchmarkId::new("solve_near", ts.len()), |b| {
+        b.iter(|| {
+            for k in 0..ts.len() {
+                let prev = if k % 8 == 0 { &sols[k + 1] } else { &sols[k - 1] };
+                black_box(solver.solve_near(black_box(&ts[k]), prev).ok());
+            }
+        })
+    });
+    // Cold: every seed tried, the solution with the largest joint margin kept.
+    g.bench_function(BenchmarkId::new("solve_all_seeds", ts.len()), |b| {
+        b.iter(|| {
+            for t in &ts {
+                black_box(solver.solve(black_box(t)).ok());
+            }
+        })
+    });
+    // First solution from any seed.
+    g.bench_function(BenchmarkId::new("solve_any", ts.len()), |b| {
+        b.iter(|| {
+            for t in &ts {
+                black_box(solver.solve_any(black_box(t)).ok());
+            }
+        })
+    });
+    g.finish();
+
+    let path = format!("{}/instances/paper/exp2_8objects.toml", env!("CARGO_MANIFEST_DIR"));
+    let inst = Instance::load(&path).expect("exp2 loads");
+    let out = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("exp2 plans");
+    let placement = out.placement.placement.clone();
+    let actions = out.sequence.actions.clone();
+    let mut g = c.benchmark_group("joint_plan");
+    g.sample_size(10);
+    g.bench_function("exp2_8objects", |b| {
+        b.iter(|| plan_trajectories(&inst, &placement, black_box(&actions), &TrajectoryOptions::default()))
+    });
+    g.bench_function("exp2_8objects_check", |b| {
+        b.iter(|| pushpack::robot::check_trajectories(&inst, black_box(&out.plan)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

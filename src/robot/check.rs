@@ -1,0 +1,326 @@
+//! Checks of the recorded joint trajectories of a plan, for the verifier.
+//!
+//! Everything is re-derived from the instance and the plan file: joint names and limits, FK of
+//! every key pose against its recorded TCP pose and against the planner's key points, continuity
+//! (joint steps and velocities between consecutive points), the straight-line pushes, the arms'
+//! start and end at home, and collisions at every point and between consecutive points.
+
+use super::ik::pose_residual;
+use super::keypoints::action_keypoints;
+use super::motion::{apply_action, collision_at, idle_arm, line_distance, segment_hand, ObjAt, LINE_LIMIT};
+use super::{ActionTrajectory, Arm};
+use crate::instance::Instance;
+use crate::plan::Plan;
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
+
+/// Largest joint step between two consecutive trajectory points (rad).
+pub const MAX_JOINT_STEP: f64 = 0.1;
+/// Tolerance of recorded TCP positions against FK (m).
+pub const FK_POSITION_TOL: f64 = 1e-6;
+/// Tolerance of recorded TCP rotations against FK (rad).
+pub const FK_ROTATION_TOL: f64 = 1e-6;
+
+fn fmt_q(q: &[f64]) -> String {
+    let v: Vec<String> = q.iter().map(|x| format!("{x:.4}")).collect();
+    format!("[{}]", v.join(", "))
+}
+
+fn as6(v: &[f64]) -> Option<[f64; 6]> {
+    (v.len() == 6 && v.iter().all(|x| x.is_finite())).then(|| std::array::from_fn(|k| v[k]))
+}
+
+/// Every violated condition of the plan's joint trajectories: (index of the action in
+/// `plan.actions` or `None` for plan-level and park/home moves, message).
+pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, String)> {
+    let mut out: Vec<(Option<usize>, String)> = Vec::new();
+    let actions = match plan.actions(inst) {
+        Ok(a) => a,
+        Err(e) => return vec![(None, format!("cannot read the actions: {e}"))],
+    };
+    let placement = match plan.placement(inst) {
+        Ok(p) => p,
+        Err(e) => return vec![(None, format!("cannot read the placement: {e}"))],
+    };
+    if plan.trajectories.is_empty() {
+        if !actions.is_empty() {
+            out.push((None, "plan has no joint trajectories".into()));
+        }
+        return out;
+    }
+    let model = &inst.robot.model;
+    match &plan.robot {
+        None => out.push((None, "plan has trajectories but no `robot` section".into())),
+        Some(r) => {
+            if r.tcp_offset
+                .iter()
+                .zip(&inst.robot.tcp_offset)
+                .any(|(a, b)| (a - b).abs() > 1e-12)
+            {
+                out.push((
+                    None,
+                    format!(
+                        "robot.tcp_offset {:?} differs from the instance's {:?}",
+                        r.tcp_offset, inst.robot.tcp_offset
+                    ),
+                ));
+            }
+        }
+    }
+    // One trajectory per action.
+    for k in 0..actions.len() {
+        let n = plan.trajectories.iter().filter(|t| t.action == Some(k)).count();
+        if n != 1 {
+            out.push((Some(k), format!("{n} joint trajectories for this action (expected 1)")));
+        }
+    }
+    let mut q_cur = inst.robot.home;
+    let mut opening = [0.0f64; 2];
+    let mut at = vec![ObjAt::Table; inst.n()];
+    let mut t_prev = f64::NEG_INFINITY;
+    for tr in &plan.trajectories {
+        let idx = tr.action;
+        let mut issue = |m: String| out.push((idx, format!("{}: {m}", tr.label)));
+        if let Some(k) = idx {
+            if k >= actions.len() {
+                issue(format!("refers to action {k}, but the plan has {}", actions.len()));
+                continue;
+            }
+        }
+        let action = idx.map(|k| &actions[k]);
+        if let Some(e) = &tr.error {
+            issue(format!("no joint trajectory: {e}"));
+            if let Some(a) = action {
+                apply_action(&mut at, &placement, a);
+            }
+            continue;
+        }
+        let arm = tr.arm;
+        if let Some(a) = action {
+            if a.arm() != arm {
+                issue(format!(
+                    "executed by the {} arm, but the action names the {} arm",
+                    arm.name(),
+                    a.arm().name()
+                ));
+            }
+        }
+        if tr.joint_names != model.joint_names(arm) {
+            issue(format!(
+                "joint names {:?} are not the {} arm's {:?}",
+                tr.joint_names,
+                arm.name(),
+                model.joint_names(arm)
+            ));
+            continue;
+        }
+        if tr.points.is_empty() {
+            issue("no points".into());
+            continue;
+        }
+        if tr.t_start < t_prev - 1e-9 {
+            issue(format!(
+                "starts at t = {:.4} s before the previous move ended ({t_prev:.4} s)",
+                tr.t_start
+            ));
+        }
+        t_prev = tr.t_end;
+        // Points: finite, within limits, continuous, within velocity limits.
+        let mut qs: Vec<[f64; 6]> = Vec::new();
+        for (i, p) in tr.points.iter().enumerate() {
+            let Some(q) = as6(&p.positions) else {
+                issue(format!("point {i}: positions must be 6 finite numbers"));
+                qs.clear();
+                break;
+            };
+            if let Some(e) = model.limit_error(arm, &q) {
+                issue(format!("point {i} (t = {:.3} s): joint limit: {e}", p.t));
+            }
+            qs.push(q);
+        }
+        if qs.len() != tr.points.len() {
+            continue;
+        }
+        let start_gap = super::ik::max_abs_diff(&qs[0], &q_cur[arm.index()]);
+        if start_gap > 1e-9 {
+            issue(format!(
+                "starts at {} but the {} arm is at {} (jump {start_gap:.4} rad)",
+                fmt_q(&qs[0]),
+                arm.name(),
+                fmt_q(&q_cur[arm.index()])
+            ));
+        }
+        for i in 1..qs.len() {
+            let dt = tr.points[i].t - tr.points[i - 1].t;
+            if !(dt > 0.0) {
+                issue(format!(
+                    "point {i}: time does not increase ({:.6} s after {:.6} s)",
+                    tr.points[i].t,
+                    tr.points[i - 1].t
+                ));
+                continue;
+            }
+            for j in 0..6 {
+                let d = (qs[i][j] - qs[i - 1][j]).abs();
+                let v = model.arms[arm.index()][j].velocity;
+                if d > MAX_JOINT_STEP {
+                    issue(format!(
+                        "point {i} (t = {:.3} s): {} jumps {d:.4} rad (continuity threshold {MAX_JOINT_STEP} rad)",
+                        tr.points[i].t, tr.joint_names[j]
+                    ));
+                } else if d / dt > v * (1.0 + 1e-6) + 1e-9 {
+                    issue(format!(
+                        "point {i} (t = {:.3} s): {} moves at {:.4} rad/s, above its limit {v} rad/s",
+                        tr.points[i].t,
+                        tr.joint_names[j],
+                        d / dt
+                    ));
+                }
+            }
+        }
+        // Key poses.
+        if let Some(a) = action {
+            let kps = action_keypoints(inst, &placement, a);
+            if kps.len() != tr.key_poses.len() {
+                issue(format!(
+                    "{} key poses recorded, the action has {}",
+                    tr.key_poses.len(),
+                    kps.len()
+                ));
+            }
+            for (kp, want) in tr.key_poses.iter().zip(&kps) {
+                let mut kissue = |m: String| issue(format!("key pose {}: {m}", kp.label));
+                if kp.label != want.label {
+                    kissue(format!("label should be {}", want.label));
+                }
+                let Some(q) = as6(&kp.joints) else {
+                    kissue("joints must be 6 finite numbers".into());
+                    continue;
+                };
+                if let Some(e) = model.limit_error(arm, &q) {
+                    kissue(format!("joint limit: {e}"));
+                }
+                let fk = model.tcp_pose(arm, &q, &inst.robot.tcp_offset);
+                let rec = Isometry3::from_parts(
+                    Translation3::from(Vector3::from(kp.position)),
+                    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix(&Matrix3::from_fn(|i, j| {
+                        kp.rotation[i][j]
+                    }))),
+                );
+                let (dp, dr) = pose_residual(&fk, &rec);
+                if dp > FK_POSITION_TOL || dr > FK_ROTATION_TOL {
+                    kissue(format!(
+                        "FK of the recorded joints is {dp:.3e} m / {dr:.3e} rad away from the recorded TCP pose \
+                         (tolerance {FK_POSITION_TOL:e} m / {FK_ROTATION_TOL:e} rad)"
+                    ));
+                }
+                let dw = (Vector3::from(kp.position) - Vector3::from(want.position)).norm();
+                if dw > FK_POSITION_TOL {
+                    kissue(format!(
+                        "recorded TCP position is {dw:.3e} m from the planned key point"
+                    ));
+                }
+                let down = fk.rotation * Vector3::z();
+                let tilt = down.angle(&-Vector3::z());
+                if tilt > FK_ROTATION_TOL {
+                    kissue(format!("tool is tilted {tilt:.3e} rad from top-down"));
+                }
+                match tr.points.iter().position(|p| (p.t - kp.t).abs() <= 1e-9) {
+                    Some(i) if super::ik::max_abs_diff(&qs[i], &q) <= 1e-9 => {}
+                    Some(i) => kissue(format!(
+                        "the point at t = {:.3} s is not at the key pose's joints",
+                        tr.points[i].t
+                    )),
+                    None => kissue(format!("no trajectory point at its time t = {:.3} s", kp.t)),
+                }
+            }
+            // Straight-line push.
+            let find = |l: &str| tr.key_poses.iter().find(|k| k.label == l);
+            if let (Some(s), Some(e)) = (find("push-start"), find("push-end")) {
+                let (a3, b3) = (Vector3::from(s.position), Vector3::from(e.position));
+                let mut worst: f64 = 0.0;
+                let idx: Vec<usize> = (0..qs.len())
+                    .filter(|&i| tr.points[i].t >= s.t - 1e-9 && tr.points[i].t <= e.t + 1e-9)
+                    .collect();
+                for w in idx.windows(2) {
+                    for u in [0.0, 0.5] {
+                        let q: [f64; 6] = std::array::from_fn(|j| qs[w[0]][j] + u * (qs[w[1]][j] - qs[w[0]][j]));
+                        let p = model.tcp_position(arm, &q, &inst.robot.tcp_offset);
+                        worst = worst.max(line_distance(&p, &a3, &b3));
+                    }
+                }
+                if worst > LINE_LIMIT {
+                    issue(format!(
+                        "push leaves the straight line by {worst:.4e} m (limit {LINE_LIMIT:e} m)"
+                    ));
+                }
+            }
+        }
+        // Collisions at every point and half-way between points.
+        let other = if arm == Arm::Left { Arm::Right } else { Arm::Left };
+        let other_obs = idle_arm(inst, other, &q_cur[other.index()], opening[other.index()]);
+        let openings: Vec<f64> = tr.key_poses.iter().map(|k| k.opening).collect();
+        let mut reported = 0;
+        for i in 0..qs.len() {
+            for u in [0.0, 0.5] {
+                if i + 1 == qs.len() && u > 0.0 {
+                    continue;
+                }
+                let q: [f64; 6] = if u == 0.0 {
+                    qs[i]
+                } else {
+                    std::array::from_fn(|j| 0.5 * (qs[i][j] + qs[i + 1][j]))
+                };
+                let t = tr.points[i].t + u * tr.points.get(i + 1).map(|p| p.t - tr.points[i].t).unwrap_or(0.0);
+                let seg = tr
+                    .key_poses
+                    .iter()
+                    .position(|k| k.t >= t - 1e-9)
+                    .unwrap_or(tr.key_poses.len().saturating_sub(1));
+                let hand = match action {
+                    Some(a) => segment_hand(inst, &placement, a, seg, &openings, opening[arm.index()]),
+                    None => super::collision::Hand {
+                        opening: opening[arm.index()],
+                        held: None,
+                    },
+                };
+                if let Some((part, obs)) = collision_at(inst, &placement, &at, action, seg, &hand, arm, &q, &other_obs)
+                {
+                    if reported < 3 {
+                        issue(format!("collision at t = {t:.3} s: {part} hits {obs}"));
+                    }
+                    reported += 1;
+                }
+            }
+        }
+        if reported > 3 {
+            issue(format!("{} more colliding samples", reported - 3));
+        }
+        q_cur[arm.index()] = *qs.last().expect("non-empty");
+        if let Some(last) = tr.key_poses.last() {
+            opening[arm.index()] = last.opening;
+        }
+        if let Some(a) = action {
+            apply_action(&mut at, &placement, a);
+        }
+    }
+    for arm in [Arm::Left, Arm::Right] {
+        let gap = super::ik::max_abs_diff(&q_cur[arm.index()], &inst.robot.home[arm.index()]);
+        if gap > 1e-9 {
+            out.push((
+                None,
+                format!(
+                    "the {} arm does not end at its home pose (off by {gap:.4} rad)",
+                    arm.name()
+                ),
+            ));
+        }
+    }
+    out
+}
+
+/// The trajectories of one arm, in time order.
+pub fn arm_trajectories(plan: &Plan, arm: Arm) -> Vec<&ActionTrajectory> {
+    let mut v: Vec<&ActionTrajectory> = plan.trajectories.iter().filter(|t| t.arm == arm).collect();
+    v.sort_by(|a, b| a.t_start.total_cmp(&b.t_start));
+    v
+}

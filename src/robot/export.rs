@@ -1,0 +1,288 @@
+//! Export of a plan's joint trajectories for a robot controller: one ROS
+//! `trajectory_msgs/JointTrajectory`-shaped message per arm (YAML or JSON) or one CSV per arm.
+//!
+//! Each arm's message holds every point of its moves in plan time (`time_from_start` from the
+//! start of the plan); while the other arm works, the arm holds still (two points with the same
+//! positions). Field names follow ROS 1 (`header.seq`, `stamp.secs/nsecs`,
+//! `time_from_start.secs/nsecs`), as used by the NEXTAGE Open's ROS 1 stack (rtmros_nextage).
+//! The YAML is written by hand (no YAML serialiser dependency); the tests parse it back.
+
+use super::check::arm_trajectories;
+use super::Arm;
+use crate::error::{Error, Result};
+use crate::plan::Plan;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Export format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ExportFormat {
+    /// `trajectory_msgs/JointTrajectory` as YAML (`<arm>_arm.yaml`).
+    RosYaml,
+    /// `trajectory_msgs/JointTrajectory` as JSON (`<arm>_arm.json`).
+    RosJson,
+    /// CSV: `t` then one column per joint (`<arm>_arm.csv`).
+    Csv,
+}
+
+impl ExportFormat {
+    /// Command-line names: `ros-yaml`, `ros-json`, `csv`.
+    pub const NAMES: [&'static str; 3] = ["ros-yaml", "ros-json", "csv"];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExportFormat::RosYaml => "ros-yaml",
+            ExportFormat::RosJson => "ros-json",
+            ExportFormat::Csv => "csv",
+        }
+    }
+
+    fn extension(self) -> &'static str {
+        match self {
+            ExportFormat::RosYaml => "yaml",
+            ExportFormat::RosJson => "json",
+            ExportFormat::Csv => "csv",
+        }
+    }
+}
+
+impl std::str::FromStr for ExportFormat {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "ros-yaml" => Ok(ExportFormat::RosYaml),
+            "ros-json" => Ok(ExportFormat::RosJson),
+            "csv" => Ok(ExportFormat::Csv),
+            other => Err(format!(
+                "unknown export format {other:?}: expected one of ros-yaml, ros-json, csv"
+            )),
+        }
+    }
+}
+
+/// ROS 1 `time` / `duration`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
+pub struct RosTime {
+    /// Whole seconds.
+    pub secs: i64,
+    /// Nanoseconds (0 ≤ nsecs < 1e9).
+    pub nsecs: i64,
+}
+
+impl RosTime {
+    /// From seconds (rounded to the nanosecond).
+    pub fn from_secs(t: f64) -> RosTime {
+        let ns = (t * 1e9).round() as i64;
+        RosTime {
+            secs: ns.div_euclid(1_000_000_000),
+            nsecs: ns.rem_euclid(1_000_000_000),
+        }
+    }
+    /// As seconds.
+    pub fn as_secs(&self) -> f64 {
+        self.secs as f64 + self.nsecs as f64 * 1e-9
+    }
+}
+
+/// `std_msgs/Header`.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct RosHeader {
+    /// Sequence number (0).
+    pub seq: u32,
+    /// Stamp (0 = start when received).
+    pub stamp: RosTime,
+    /// Frame of the message (`WAIST`).
+    pub frame_id: String,
+}
+
+/// `trajectory_msgs/JointTrajectoryPoint`.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct RosPoint {
+    /// Positions (rad).
+    pub positions: Vec<f64>,
+    /// Velocities (rad/s).
+    pub velocities: Vec<f64>,
+    /// Accelerations (empty).
+    pub accelerations: Vec<f64>,
+    /// Efforts (empty).
+    pub effort: Vec<f64>,
+    /// Time from the start of the plan.
+    pub time_from_start: RosTime,
+}
+
+/// `trajectory_msgs/JointTrajectory`.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct RosJointTrajectory {
+    /// Header.
+    pub header: RosHeader,
+    /// Joint names.
+    pub joint_names: Vec<String>,
+    /// Points.
+    pub points: Vec<RosPoint>,
+}
+
+/// The message of one arm (`None` when the arm never moves).
+pub fn arm_message(plan: &Plan, arm: Arm) -> Option<RosJointTrajectory> {
+    let trs: Vec<_> = arm_trajectories(plan, arm)
+        .into_iter()
+        .filter(|t| !t.points.is_empty())
+        .collect();
+    let first = trs.first()?;
+    let frame = plan
+        .robot
+        .as_ref()
+        .map(|r| r.base_frame.clone())
+        .unwrap_or_else(|| "WAIST".into());
+    let mut points: Vec<RosPoint> = Vec::new();
+    let mut last_t = f64::NEG_INFINITY;
+    let mk = |p: &super::TrajPoint| RosPoint {
+        positions: p.positions.clone(),
+        velocities: if p.velocities.len() == p.positions.len() {
+            p.velocities.clone()
+        } else {
+            vec![0.0; p.positions.len()]
+        },
+        accelerations: Vec::new(),
+        effort: Vec::new(),
+        time_from_start: RosTime::from_secs(p.t),
+    };
+    if first.points[0].t > 0.0 {
+        let mut p = mk(&first.points[0]);
+        p.time_from_start = RosTime::from_secs(0.0);
+        points.push(p);
+        last_t = 0.0;
+    }
+    for tr in &trs {
+        for p in &tr.points {
+            if p.t <= last_t + 1e-9 {
+                continue;
+            }
+            points.push(mk(p));
+            last_t = p.t;
+        }
+    }
+    Some(RosJointTrajectory {
+        header: RosHeader {
+            seq: 0,
+            stamp: RosTime { secs: 0, nsecs: 0 },
+            frame_id: frame,
+        },
+        joint_names: first.joint_names.clone(),
+        points,
+    })
+}
+
+fn num(x: f64) -> String {
+    // Shortest representation that round-trips; YAML and CSV both accept it.
+    let s = format!("{x:?}");
+    if s.contains('e') || s.contains('.') || s.contains("inf") || s.contains("NaN") {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+fn list(v: &[f64]) -> String {
+    let items: Vec<String> = v.iter().map(|x| num(*x)).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// The message as YAML (block style, flow lists for vectors).
+pub fn to_yaml(m: &RosJointTrajectory) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "header:");
+    let _ = writeln!(s, "  seq: {}", m.header.seq);
+    let _ = writeln!(s, "  stamp:");
+    let _ = writeln!(s, "    secs: {}", m.header.stamp.secs);
+    let _ = writeln!(s, "    nsecs: {}", m.header.stamp.nsecs);
+    let _ = writeln!(
+        s,
+        "  frame_id: \"{}\"",
+        m.header.frame_id.replace('\\', "\\\\").replace('"', "\\\"")
+    );
+    let names: Vec<String> = m.joint_names.iter().map(|n| format!("\"{n}\"")).collect();
+    let _ = writeln!(s, "joint_names: [{}]", names.join(", "));
+    if m.points.is_empty() {
+        let _ = writeln!(s, "points: []");
+    } else {
+        let _ = writeln!(s, "points:");
+    }
+    for p in &m.points {
+        let _ = writeln!(s, "  - positions: {}", list(&p.positions));
+        let _ = writeln!(s, "    velocities: {}", list(&p.velocities));
+        let _ = writeln!(s, "    accelerations: {}", list(&p.accelerations));
+        let _ = writeln!(s, "    effort: {}", list(&p.effort));
+        let _ = writeln!(s, "    time_from_start:");
+        let _ = writeln!(s, "      secs: {}", p.time_from_start.secs);
+        let _ = writeln!(s, "      nsecs: {}", p.time_from_start.nsecs);
+    }
+    s
+}
+
+/// The message as CSV: `t,<joint names…>`, one row per point.
+pub fn to_csv(m: &RosJointTrajectory) -> String {
+    let mut s = String::from("t");
+    for n in &m.joint_names {
+        s.push(',');
+        s.push_str(n);
+    }
+    s.push('\n');
+    for p in &m.points {
+        s.push_str(&num(p.time_from_start.as_secs()));
+        for x in &p.positions {
+            s.push(',');
+            s.push_str(&num(*x));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Write the plan's joint trajectories in `format` into `out_dir` (created if needed): one file
+/// per arm that moves (`left_arm.yaml`, `right_arm.csv`, …). Returns the paths written. Fails
+/// when the plan has no trajectories or a trajectory of it has an error.
+pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<PathBuf>> {
+    let file = "plan.json";
+    if plan.trajectories.is_empty() {
+        return Err(Error::input(
+            file,
+            "trajectories",
+            "the plan has no joint trajectories to export",
+        ));
+    }
+    if let Some((k, t)) = plan.trajectories.iter().enumerate().find(|(_, t)| t.error.is_some()) {
+        return Err(Error::input(
+            file,
+            format!("trajectories[{k}]"),
+            format!(
+                "{} has no joint trajectory: {}",
+                t.label,
+                t.error.as_deref().unwrap_or("")
+            ),
+        ));
+    }
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::Io {
+        path: out_dir.to_path_buf(),
+        source: e,
+    })?;
+    let mut written = Vec::new();
+    for arm in [Arm::Left, Arm::Right] {
+        let Some(m) = arm_message(plan, arm) else {
+            continue;
+        };
+        let text = match format {
+            ExportFormat::RosYaml => to_yaml(&m),
+            ExportFormat::RosJson => serde_json::to_string_pretty(&m).expect("messages serialise") + "\n",
+            ExportFormat::Csv => to_csv(&m),
+        };
+        let path = out_dir.join(format!("{}_arm.{}", arm.name(), format.extension()));
+        std::fs::write(&path, text).map_err(|e| Error::Io {
+            path: path.clone(),
+            source: e,
+        })?;
+        written.push(path);
+    }
+    Ok(written)
+}

@@ -1,0 +1,513 @@
+//! Robot stage: model, forward and inverse kinematics, collision primitives, joint plans of the
+//! paper instances, time parameterisation, reachability and arm selection.
+
+mod common;
+
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use pushpack::actions::Action;
+use pushpack::instance::{Instance, NEXTAGE_INITIAL_POSE_DEG};
+use pushpack::plan::{optimize, PlanOptions, PlanOutcome};
+use pushpack::robot::collision::{first_collision, robot_parts, static_obstacles, Hand};
+use pushpack::robot::ik::{pose_residual, top_down_pose, IkSolver};
+use pushpack::robot::motion::{line_distance, LINE_LIMIT};
+use pushpack::robot::trajectory::{time_segment, TrajectoryOptions};
+use pushpack::robot::{
+    action_reachable, arms_reaching, check_trajectories, select_arm, Arm, RobotError, RobotModel, DEFAULT_TCP_OFFSET,
+};
+use std::sync::OnceLock;
+
+/// The official NEXTAGE Open URDF, found beside the checkout (CI runs with `shared/` there).
+/// Missing file = test failure with a clear message, never a silent pass.
+fn official_urdf() -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/nextage/NextageOpen.urdf");
+    std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "this test compares against the official NEXTAGE Open URDF, expected at {} (shared/ beside the \
+             checkout): {e}",
+            path.display()
+        )
+    })
+}
+
+fn limits(m: &RobotModel, arm: Arm) -> Vec<(f64, f64)> {
+    m.arms[arm.index()].iter().map(|j| (j.lower, j.upper)).collect()
+}
+
+fn random_q(r: &mut common::Rng, lim: &[(f64, f64)]) -> [f64; 6] {
+    std::array::from_fn(|k| r.range(lim[k].0, lim[k].1))
+}
+
+fn home() -> [[f64; 6]; 2] {
+    NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians))
+}
+
+#[test]
+fn official_urdf_loads_unchanged_and_gives_the_same_fk_as_the_bundled_model() {
+    let official = RobotModel::from_urdf_str(&official_urdf()).expect("the official file loads");
+    let ours = RobotModel::bundled();
+    assert!(
+        official.shapes.iter().all(|s| s.is_empty()),
+        "official collisions are meshes: skipped"
+    );
+    let mut r = common::Rng(7);
+    for arm in [Arm::Left, Arm::Right] {
+        assert_eq!(official.joint_names(arm), ours.joint_names(arm));
+        for (a, b) in official.arms[arm.index()].iter().zip(&ours.arms[arm.index()]) {
+            assert_eq!(
+                (a.lower, a.upper, a.velocity),
+                (b.lower, b.upper, b.velocity),
+                "{}",
+                a.name
+            );
+        }
+        let lim = limits(&ours, arm);
+        for _ in 0..1000 {
+            let q = random_q(&mut r, &lim);
+            let (fa, fb) = (official.link_frames(arm, &q), ours.link_frames(arm, &q));
+            for k in 0..6 {
+                let dp = (fa[k].translation.vector - fb[k].translation.vector).norm();
+                let dr = (fa[k].rotation.to_rotation_matrix().matrix() - fb[k].rotation.to_rotation_matrix().matrix())
+                    .abs()
+                    .max();
+                assert!(dp <= 1e-9 && dr <= 1e-9, "{arm:?} link {k} at {q:?}: {dp:e} m, {dr:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn bundled_model_has_collision_primitives_gripper_and_tcp_link() {
+    let m = RobotModel::bundled();
+    for arm in [Arm::Left, Arm::Right] {
+        let names: Vec<&str> = m.shapes[arm.index()].iter().map(|s| s.name.as_str()).collect();
+        for link in ["JOINT3_Link", "JOINT4_Link", "JOINT5_Link", "gripper_Link"] {
+            assert!(
+                names.iter().any(|n| *n == format!("{}_{link}", arm.prefix())),
+                "{arm:?} lacks a primitive on {link}: {names:?}"
+            );
+        }
+    }
+    // The URDF's TCP link sits at DEFAULT_TCP_OFFSET with the documented TCP rotation.
+    let text = std::fs::read_to_string(format!("{}/models/nextage_open.urdf", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let robot = urdf_rs::read_from_string(&text).unwrap();
+    let q = home()[0];
+    let w = m.wrist_pose(Arm::Left, &q);
+    let mut t = w;
+    for name in ["LARM_gripper_joint", "LARM_tcp_joint"] {
+        let j = robot.joints.iter().find(|j| j.name == name).expect(name);
+        let [x, y, z] = *j.origin.xyz;
+        let [a, b, c] = *j.origin.rpy;
+        t *= nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::new(x, y, z),
+            nalgebra::UnitQuaternion::from_euler_angles(a, b, c),
+        );
+    }
+    let tcp = m.tcp_pose(Arm::Left, &q, &DEFAULT_TCP_OFFSET);
+    let (dp, dr) = pose_residual(&t, &tcp);
+    assert!(
+        dp < 1e-12 && dr < 1e-9,
+        "URDF tcp link vs DEFAULT_TCP_OFFSET: {dp:e} m, {dr:e} rad"
+    );
+}
+
+/// Elementary rotations for the hand computation.
+fn rx(a: f64) -> Matrix3<f64> {
+    let (s, c) = a.sin_cos();
+    Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c)
+}
+fn ry(a: f64) -> Matrix3<f64> {
+    let (s, c) = a.sin_cos();
+    Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
+}
+fn rz(a: f64) -> Matrix3<f64> {
+    let (s, c) = a.sin_cos();
+    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+#[test]
+fn fk_of_the_initial_pose_matches_a_hand_computation() {
+    // Left arm, standard initial pose [0.6, 0, -100, -15.2, 9.4, -3.2] degrees. From the figures:
+    // shoulder at (0, 0.145, 0.370296) rolled by -15 deg about x; J0 about z; J1 about y;
+    // elbow (0, 0.095, -0.25); J2 about y; (-0.03, 0, 0); J3 about z; (0, 0, -0.235); J4 about y;
+    // wrist flange (-0.047, 0, -0.09); J5 about x.
+    let d = |x: f64| x.to_radians();
+    let q = [0.6, 0.0, -100.0, -15.2, 9.4, -3.2].map(d);
+    let r0 = rx(-0.261799);
+    let r1 = r0 * rz(q[0]) * ry(q[1]);
+    let r2 = r1 * ry(q[2]);
+    let r3 = r2 * rz(q[3]);
+    let r4 = r3 * ry(q[4]);
+    let r5 = r4 * rx(q[5]);
+    let wrist = Vector3::new(0.0, 0.145, 0.370296)
+        + r1 * Vector3::new(0.0, 0.095, -0.25)
+        + r2 * Vector3::new(-0.03, 0.0, 0.0)
+        + r3 * Vector3::new(0.0, 0.0, -0.235)
+        + r4 * Vector3::new(-0.047, 0.0, -0.09);
+    let tcp = wrist + r5 * Vector3::new(-0.20, 0.0, 0.0);
+    let m = RobotModel::bundled();
+    let w = m.wrist_pose(Arm::Left, &q);
+    assert!(
+        (w.translation.vector - wrist).norm() < 1e-12,
+        "{} vs {}",
+        w.translation.vector,
+        wrist
+    );
+    assert!((w.rotation.to_rotation_matrix().matrix() - r5).abs().max() < 1e-12);
+    // The numbers: left wrist flange at (0.32558, 0.18236, 0.06762) m in WAIST, fingers down.
+    assert!(
+        (wrist - Vector3::new(0.325575, 0.182363, 0.067625)).norm() < 1e-5,
+        "{wrist}"
+    );
+    let p = m.tcp_position(Arm::Left, &q, &DEFAULT_TCP_OFFSET);
+    assert!((p - tcp).norm() < 1e-12);
+    // Fingertips 0.0676 m above the default table (z = -0.20), as SPEC §3 says (~0.07 m).
+    assert!((tcp.z + 0.20 - 0.0676).abs() < 1e-3, "{tcp}");
+    // Right arm mirrors the left one.
+    let qr = [-0.6, 0.0, -100.0, 15.2, 9.4, 3.2].map(d);
+    let wr = m.wrist_pose(Arm::Right, &qr).translation.vector;
+    assert!((wr - Vector3::new(wrist.x, -wrist.y, wrist.z)).norm() < 1e-9);
+}
+
+#[test]
+fn tcp_frame_points_down_at_home_with_the_thick_side_toward_the_robot() {
+    let m = RobotModel::bundled();
+    for arm in [Arm::Left, Arm::Right] {
+        let t = m.tcp_pose(arm, &home()[arm.index()], &DEFAULT_TCP_OFFSET);
+        let r = t.rotation.to_rotation_matrix();
+        assert!((r * Vector3::z()).z < -0.999, "approach axis down");
+        assert!((r * Vector3::x()).x < -0.999, "thick side toward the robot (-x)");
+    }
+}
+
+#[test]
+fn ik_round_trip_on_random_reachable_poses_per_arm() {
+    let m = RobotModel::bundled();
+    let mut r = common::Rng(2024);
+    for arm in [Arm::Left, Arm::Right] {
+        let solver = IkSolver::new(&m, arm, &DEFAULT_TCP_OFFSET);
+        let lim = limits(&m, arm);
+        let mut worst = (0.0f64, 0.0f64);
+        for i in 0..1000 {
+            let q = random_q(&mut r, &lim);
+            let target = solver.fk(&q);
+            let sol = solver
+                .solve_any(&target)
+                .unwrap_or_else(|e| panic!("{arm:?} pose {i} from {q:?}: {e}"));
+            assert!(m.limit_error(arm, &sol).is_none(), "{sol:?} outside the limits");
+            let (dp, dr) = pose_residual(&solver.fk(&sol), &target);
+            worst = (worst.0.max(dp), worst.1.max(dr));
+            assert!(dp <= 1e-6 && dr <= 1e-6, "{arm:?} pose {i}: {dp:e} m, {dr:e} rad");
+        }
+        println!("{arm:?}: worst round trip {:.2e} m, {:.2e} rad", worst.0, worst.1);
+    }
+}
+
+#[test]
+fn ik_reaches_the_default_work_cell_top_down_in_every_yaw() {
+    let m = RobotModel::bundled();
+    for arm in [Arm::Left, Arm::Right] {
+        let solver = IkSolver::new(&m, arm, &DEFAULT_TCP_OFFSET);
+        let side = if arm == Arm::Left { 1.0 } else { -1.0 };
+        let mut pts = Vec::new();
+        for x in [0.20, 0.275, 0.35] {
+            for y in [0.20, 0.30, 0.40] {
+                pts.push(Vector3::new(x, side * y, -0.17));
+            }
+        }
+        for x in [0.20, 0.30, 0.40] {
+            for y in [-0.06, 0.0, 0.06] {
+                pts.push(Vector3::new(x, y, -0.17));
+            }
+        }
+        for p in pts {
+            for yaw in [0.0, std::f64::consts::FRAC_PI_2] {
+                // The gripper is symmetric: yaw or yaw + pi.
+                let ok = [yaw, yaw + std::f64::consts::PI].iter().any(|y| {
+                    let t = top_down_pose(&p, *y);
+                    solver
+                        .solve(&t)
+                        .map(|q| {
+                            let (dp, dr) = pose_residual(&solver.fk(&q), &t);
+                            dp < 1e-6 && dr < 1e-6
+                        })
+                        .unwrap_or(false)
+                });
+                assert!(ok, "{arm:?} cannot reach {p} top-down with yaw {yaw}");
+            }
+        }
+    }
+}
+
+#[test]
+fn ik_reports_unreachable_poses_with_numbers() {
+    let m = RobotModel::bundled();
+    let solver = IkSolver::new(&m, Arm::Left, &DEFAULT_TCP_OFFSET);
+    for p in [
+        Vector3::new(1.5, 0.3, 0.0),   // far beyond the arm
+        Vector3::new(-0.6, 0.3, -0.1), // behind the robot
+        Vector3::new(0.3, 0.2, -0.9),  // below the table, out of reach
+    ] {
+        match solver.solve(&top_down_pose(&p, 0.0)) {
+            Err(RobotError::Unreachable {
+                pos_residual, attempts, ..
+            }) => {
+                assert!(pos_residual > 1e-3, "residual {pos_residual} should be large");
+                assert!(attempts > 10);
+            }
+            other => panic!("{p}: expected Unreachable, got {other:?}"),
+        }
+    }
+    // Tool pointing up at the container: the wrist cannot do it within its limits.
+    let up = nalgebra::Isometry3::from_parts(
+        nalgebra::Translation3::new(0.3, 0.0, -0.15),
+        nalgebra::UnitQuaternion::from_rotation_matrix(&Rotation3::from_axis_angle(
+            &Vector3::x_axis(),
+            std::f64::consts::PI,
+        )),
+    );
+    let e = solver.solve(&(up * top_down_pose(&Vector3::zeros(), 0.0))).unwrap_err();
+    assert!(e.to_string().contains("cannot reach"), "{e}");
+}
+
+#[test]
+fn ik_follows_a_path_without_branch_flips() {
+    let m = RobotModel::bundled();
+    let solver = IkSolver::new(&m, Arm::Left, &DEFAULT_TCP_OFFSET);
+    let mut q = solver
+        .solve(&top_down_pose(&Vector3::new(0.2, 0.3, -0.15), 0.3))
+        .unwrap();
+    for i in 1..=200 {
+        let s = i as f64 / 200.0;
+        let p = Vector3::new(0.2 + 0.2 * s, 0.3 - 0.35 * s, -0.15 + 0.1 * s);
+        let qn = solver.solve_near(&top_down_pose(&p, 0.3), &q).unwrap();
+        let jump = (0..6).map(|k| (qn[k] - q[k]).abs()).fold(0.0, f64::max);
+        assert!(jump < 0.05, "step {i}: jump {jump} rad");
+        q = qn;
+    }
+}
+
+#[test]
+fn the_hands_thick_side_needs_six_centimetres_from_a_wall() {
+    // Place the TCP 1 cm above the container floor, `gap` from the left wall (C's x = 0), with the
+    // thick side (TCP x) toward the wall or away from it.
+    let inst = common::load("paper/exp1_4objects.toml");
+    let m = &inst.robot.model;
+    let solver = IkSolver::new(m, Arm::Left, &inst.robot.tcp_offset);
+    let obstacles = static_obstacles(&inst);
+    let hand = Hand {
+        opening: 0.0,
+        held: None,
+    };
+    let wall_x = inst.container.to_world([0.0, 0.0, 0.0]).x;
+    let hits = |gap: f64, yaw: f64| {
+        let p = Vector3::new(wall_x + gap, 0.03, inst.container.floor_z + 0.01);
+        let q = solver.solve(&top_down_pose(&p, yaw)).unwrap();
+        let parts = robot_parts(m, &inst, Arm::Left, &q, &hand);
+        first_collision(&parts, &obstacles, |_, _| false).map(|(p, o)| format!("{} / {}", p.name, o.name))
+    };
+    // yaw = pi/2: closing axis along +y, thick side along -x = toward the near wall.
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    assert!(
+        hits(0.04, half_pi).is_some(),
+        "thick side 4 cm from the wall must collide"
+    );
+    assert_eq!(hits(0.061, half_pi), None, "thick side 6.1 cm from the wall is free");
+    // Turned by pi: thin side toward the wall, 2 cm is enough.
+    assert_eq!(hits(0.02, -half_pi), None);
+}
+
+#[test]
+fn time_parameterisation_respects_velocity_and_acceleration_limits() {
+    let a = [0.0, -0.5, -1.5, 0.2, 0.1, 0.0];
+    let b = [0.8, -0.1, -1.0, -0.4, 0.6, 1.5];
+    let mid = [0.4, -0.2, -1.4, 0.0, 0.3, 0.9];
+    let v = [0.5; 6];
+    for scale in [1.0, 0.5] {
+        let opts = TrajectoryOptions {
+            velocity_scale: scale,
+            sample_dt: 0.01,
+            ..TrajectoryOptions::default()
+        };
+        let (pts, t_end) = time_segment(&[a, mid, b], &v, &opts, 2.0);
+        assert_eq!(pts.first().unwrap().positions, a.to_vec());
+        assert_eq!(pts.last().unwrap().positions, b.to_vec());
+        assert!((pts.last().unwrap().t - t_end).abs() < 1e-12);
+        for w in pts.windows(2) {
+            let dt = w[1].t - w[0].t;
+            assert!(dt > 0.0);
+            for j in 0..6 {
+                let vel = (w[1].positions[j] - w[0].positions[j]).abs() / dt;
+                assert!(vel <= 0.5 * scale * (1.0 + 1e-9), "velocity {vel} at scale {scale}");
+                assert!(w[0].velocities[j].abs() <= 0.5 * scale * (1.0 + 1e-9));
+            }
+        }
+        // Tangential acceleration from the recorded velocities: within a * scale^2 (pieces of the
+        // path are straight in joint space; only the corner at `mid` changes direction).
+        for w in pts.windows(2) {
+            let dt = w[1].t - w[0].t;
+            for j in 0..6 {
+                let acc = (w[1].velocities[j] - w[0].velocities[j]).abs() / dt;
+                let corner = (w[0].positions[j] - mid[j]).abs() < 0.02 || (w[1].positions[j] - mid[j]).abs() < 0.02;
+                if !corner {
+                    assert!(
+                        acc <= opts.acceleration * scale * scale * (1.0 + 1e-6) + 1e-9,
+                        "acc {acc}"
+                    );
+                }
+            }
+        }
+        if scale == 0.5 {
+            let (_, t_fast) = time_segment(&[a, mid, b], &v, &TrajectoryOptions::default(), 2.0);
+            assert!(
+                t_end - 2.0 > 1.9 * (t_fast - 2.0),
+                "half speed takes about twice as long"
+            );
+        }
+    }
+}
+
+/// Plans of the two paper instances (computed once per test binary).
+fn paper_plans() -> &'static Vec<(Instance, PlanOutcome)> {
+    static PLANS: OnceLock<Vec<(Instance, PlanOutcome)>> = OnceLock::new();
+    PLANS.get_or_init(|| {
+        ["paper/exp1_4objects.toml", "paper/exp2_8objects.toml"]
+            .iter()
+            .map(|f| {
+                let inst = common::load(f);
+                let out = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans");
+                (inst, out)
+            })
+            .collect()
+    })
+}
+
+#[test]
+fn paper_plans_have_verified_collision_free_trajectories_for_every_action() {
+    for (inst, out) in paper_plans() {
+        let plan = &out.plan;
+        let robot = plan.robot.as_ref().expect("robot section");
+        assert_eq!(robot.base_frame, "WAIST");
+        assert_eq!(robot.tcp_offset, inst.robot.tcp_offset);
+        for (k, a) in plan.actions.iter().enumerate() {
+            let tr = plan
+                .trajectories
+                .iter()
+                .find(|t| t.action == Some(k))
+                .unwrap_or_else(|| panic!("{}: no trajectory for action {k}", inst.name));
+            assert!(tr.error.is_none(), "{}: {}: {:?}", inst.name, tr.label, tr.error);
+            assert_eq!(tr.arm, a.arm);
+            assert_eq!(tr.key_poses.len(), a.key_poses.len());
+            assert!(tr.clearance.unwrap_or(0.0) >= -pushpack::robot::collision::CONTACT_TOLERANCE);
+        }
+        let issues = check_trajectories(inst, plan);
+        assert!(issues.is_empty(), "{}: {issues:#?}", inst.name);
+        // plan.json round trip keeps the trajectories.
+        let text = serde_json::to_string(plan).unwrap();
+        let back: pushpack::plan::Plan = serde_json::from_str(&text).unwrap();
+        assert_eq!(&back.trajectories, &plan.trajectories);
+        let last = plan.trajectories.last().unwrap();
+        println!(
+            "{}: {} trajectories, {:.1} s, {} points",
+            inst.name,
+            plan.trajectories.len(),
+            last.t_end,
+            plan.trajectories.iter().map(|t| t.points.len()).sum::<usize>()
+        );
+    }
+}
+
+#[test]
+fn straight_line_pushes_stay_within_one_millimetre() {
+    let mut pushes = 0;
+    for (inst, out) in paper_plans() {
+        let m = &inst.robot.model;
+        for tr in out.plan.trajectories.iter().filter(|t| t.label.starts_with("push")) {
+            let s = tr.key_poses.iter().find(|k| k.label == "push-start").unwrap();
+            let e = tr.key_poses.iter().find(|k| k.label == "push-end").unwrap();
+            let (a, b) = (Vector3::from(s.position), Vector3::from(e.position));
+            let pts: Vec<_> = tr
+                .points
+                .iter()
+                .filter(|p| p.t >= s.t - 1e-9 && p.t <= e.t + 1e-9)
+                .collect();
+            assert!(pts.len() >= 2);
+            let mut worst: f64 = 0.0;
+            for w in pts.windows(2) {
+                for u in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                    let q: [f64; 6] =
+                        std::array::from_fn(|j| w[0].positions[j] + u * (w[1].positions[j] - w[0].positions[j]));
+                    worst = worst.max(line_distance(
+                        &m.tcp_position(tr.arm, &q, &inst.robot.tcp_offset),
+                        &a,
+                        &b,
+                    ));
+                }
+            }
+            assert!(worst < LINE_LIMIT, "{}: {} deviates {worst:e} m", inst.name, tr.label);
+            pushes += 1;
+        }
+    }
+    assert!(pushes > 0, "the paper plans push");
+}
+
+#[test]
+fn the_checker_catches_tampered_trajectories() {
+    let (inst, out) = &paper_plans()[0];
+    // A joint beyond its limit and a key pose whose joints no longer give its TCP pose.
+    let mut plan = out.plan.clone();
+    let tr = plan.trajectories.iter_mut().find(|t| t.action == Some(0)).unwrap();
+    let n = tr.points.len();
+    tr.points[n / 2].positions[2] = 0.5; // JOINT2 upper limit is 0
+    tr.key_poses[1].joints[0] += 0.01;
+    let issues = check_trajectories(inst, &plan);
+    let text = format!("{issues:?}");
+    assert!(text.contains("joint limit"), "{text}");
+    assert!(text.contains("FK of the recorded joints"), "{text}");
+    assert!(text.contains("jumps"), "{text}");
+    assert!(issues.iter().all(|(k, _)| *k == Some(0)), "{issues:?}");
+    // A hand lowered into a wall.
+    let mut plan = out.plan.clone();
+    let tr = plan.trajectories.iter_mut().find(|t| t.action == Some(0)).unwrap();
+    let solver = IkSolver::new(&inst.robot.model, tr.arm, &inst.robot.tcp_offset);
+    let wall = inst.container.to_world([-0.005, 0.1, 0.02]);
+    let q0: [f64; 6] = std::array::from_fn(|j| tr.points[0].positions[j]);
+    let q = solver.solve_near(&top_down_pose(&wall, 0.0), &q0).unwrap();
+    let last = tr.points.len() - 1;
+    tr.points[last / 3].positions = q.to_vec();
+    let text = format!("{:?}", check_trajectories(inst, &plan));
+    assert!(text.contains("collision") && text.contains("wall"), "{text}");
+    // No trajectories at all.
+    let mut plan = out.plan.clone();
+    plan.trajectories.clear();
+    assert_eq!(
+        check_trajectories(inst, &plan),
+        vec![(None, "plan has no joint trajectories".to_string())]
+    );
+}
+
+#[test]
+fn reachability_and_arm_selection() {
+    let (inst, out) = &paper_plans()[1];
+    let placement = &out.placement.placement;
+    for a in &out.sequence.actions {
+        assert!(action_reachable(inst, placement, a), "{a:?}");
+        assert!(!arms_reaching(inst, placement, a).is_empty());
+    }
+    // A place of an object that starts on the left side of the table: the left arm is chosen.
+    let place = out
+        .sequence
+        .actions
+        .iter()
+        .find(|a| matches!(a, Action::Place { object, .. } if inst.objects[*object].table.y > 0.3))
+        .expect("a place from the far left");
+    assert_eq!(select_arm(inst, placement, place), Some(Arm::Left));
+    // The same instance with the container moved out of reach: nothing is reachable.
+    let text = std::fs::read_to_string(common::bundled("paper/exp2_8objects.toml"))
+        .unwrap()
+        .replace("center = [30.0, 0.0]", "center = [95.0, 0.0]");
+    let far = Instance::parse(&text, false, "<far>", None).unwrap();
+    for a in &out.sequence.actions {
+        assert!(!action_reachable(&far, placement, a), "{a:?} should be out of reach");
+        assert_eq!(select_arm(&far, placement, a), None);
+    }
+}
