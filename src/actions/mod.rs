@@ -300,7 +300,10 @@ impl<'a> Layout<'a> {
                     if *offset < inst.gripper.min_offset - EPS {
                         return Err(infeasible(
                             "finger_slab",
-                            format!("offset {:.4} m is below the minimum {:.4} m", offset, inst.gripper.min_offset),
+                            format!(
+                                "offset {:.4} m is below the minimum {:.4} m",
+                                offset, inst.gripper.min_offset
+                            ),
                         ));
                     }
                 }

@@ -602,7 +602,10 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
                 nodes: sr.nodes,
                 bound: sr.bound.map(|b| b.travel),
                 gap: sr.bound.map(|b| {
-                    if b.len == sr.metrics.seq_len && (b.area - sr.metrics.swept_area).abs() <= 1e-12 && sr.metrics.travel > 0.0 {
+                    if b.len == sr.metrics.seq_len
+                        && (b.area - sr.metrics.swept_area).abs() <= 1e-12
+                        && sr.metrics.travel > 0.0
+                    {
                         ((sr.metrics.travel - b.travel) / sr.metrics.travel).max(0.0)
                     } else {
                         1.0

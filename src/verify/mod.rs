@@ -147,7 +147,11 @@ impl fmt::Display for Report {
             }
         }
         if !self.robot_issues.is_empty() {
-            write!(f, "\njoint trajectories: {} problem(s) (not yet avoided by the planner):", self.robot_issues.len())?;
+            write!(
+                f,
+                "\njoint trajectories: {} problem(s) (not yet avoided by the planner):",
+                self.robot_issues.len()
+            )?;
             for v in &self.robot_issues {
                 write!(f, "\n  {v}")?;
             }
@@ -181,14 +185,22 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
         Ok(p) => p,
         Err(e) => {
             out.push(fmt_err(e.to_string()));
-            return Report { violations: out, steps_checked: 0, robot_issues: Vec::new() };
+            return Report {
+                violations: out,
+                steps_checked: 0,
+                robot_issues: Vec::new(),
+            };
         }
     };
     let actions = match plan.actions(inst) {
         Ok(a) => a,
         Err(e) => {
             out.push(fmt_err(e.to_string()));
-            return Report { violations: out, steps_checked: 0, robot_issues: Vec::new() };
+            return Report {
+                violations: out,
+                steps_checked: 0,
+                robot_issues: Vec::new(),
+            };
         }
     };
     let mut r = Replay::new(inst, &placement, out);
@@ -205,10 +217,18 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
     let mut robot_issues = Vec::new();
     if !plan.trajectories.is_empty() {
         for (k, message) in crate::robot::check::check_trajectories(inst, plan) {
-            robot_issues.push(Violation { step: k.map(|k| k + 1), class: ViolationClass::Robot, message });
+            robot_issues.push(Violation {
+                step: k.map(|k| k + 1),
+                class: ViolationClass::Robot,
+                message,
+            });
         }
     }
-    Report { violations: r.out, steps_checked: actions.len(), robot_issues }
+    Report {
+        violations: r.out,
+        steps_checked: actions.len(),
+        robot_issues,
+    }
 }
 
 fn short(digest: &str) -> String {
