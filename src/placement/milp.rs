@@ -1088,12 +1088,12 @@ fn contact_stage(
                 let (ov, oc) = cols.add(variable().min(0.0).max(big));
                 init_extra.push((tc, if now_touch && now_ov > eps { 1.0 } else { 0.0 }));
                 init_extra.push((oc, if now_touch && now_ov > eps { now_ov } else { 0.0 }));
-                let (pa, pb, la, _lb, qa, qb, ma, mb) = match axis {
+                // Along `axis`: positions p and extents l; across it: positions q and extents m.
+                let (pa, pb, la, qa, qb, ma, mb) = match axis {
                     Axis2::X => (
                         m.x[a].0,
                         m.x[b].0,
                         m.width(fps, a),
-                        m.width(fps, b),
                         m.y[a].0,
                         m.y[b].0,
                         m.depth_of(fps, a),
@@ -1103,7 +1103,6 @@ fn contact_stage(
                         m.y[a].0,
                         m.y[b].0,
                         m.depth_of(fps, a),
-                        m.depth_of(fps, b),
                         m.x[a].0,
                         m.x[b].0,
                         m.width(fps, a),
