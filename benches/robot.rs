@@ -1,11 +1,14 @@
 //! Robot stage throughput: IK solves per second (warm-started along a path, as the joint planner
 //! uses it, and cold with every seed, as the reachability predicate starts), and the time to
-//! produce the whole joint plan of the paper's second experiment (8 objects, 10 actions).
+//! produce the whole joint plan of the paper's second experiment (8 objects, 10 actions), and
+//! the action planner's reachability predicate over all of its place actions.
 //!
 //! `cargo bench --bench robot -- --warm-up-time 1 --measurement-time 5`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use nalgebra::Vector3;
+use pushpack::actions::{Action, PlaceMode};
+use pushpack::geometry::{Axis2, PushDir};
 use pushpack::instance::Instance;
 use pushpack::plan::{optimize, PlanOptions};
 use pushpack::robot::ik::{top_down_pose, IkSolver};
@@ -75,6 +78,49 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("exp2_8objects_check", |b| {
         b.iter(|| pushpack::robot::check_trajectories(&inst, black_box(&out.plan)))
+    });
+    g.finish();
+
+    // The action planner's reachability predicate over every place action of exp2's placement
+    // (13 release modes × 2 grasp axes per object), without and with the shared IK memo.
+    let mut places = Vec::new();
+    for i in 0..inst.n() {
+        let mut modes = vec![PlaceMode::Direct];
+        for d in PushDir::ALL {
+            for k in 1..=3 {
+                modes.push(PlaceMode::Indirect {
+                    push_dir: d,
+                    offset: inst.gripper.min_offset * k as f64,
+                });
+            }
+        }
+        for mode in modes {
+            for grasp_axis in [Axis2::X, Axis2::Y] {
+                places.push(Action::Place {
+                    object: i,
+                    mode,
+                    grasp_axis,
+                    arm: pushpack::robot::keypoints::pick_arm(&inst, i),
+                });
+            }
+        }
+    }
+    let mut g = c.benchmark_group("reach_predicate");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(places.len() as u64));
+    g.bench_function(BenchmarkId::new("action_reach", places.len()), |b| {
+        b.iter(|| {
+            places
+                .iter()
+                .filter(|a| pushpack::robot::motion::action_reach(&inst, &placement, a).is_some())
+                .count()
+        })
+    });
+    g.bench_function(BenchmarkId::new("reach_cache", places.len()), |b| {
+        b.iter(|| {
+            let cache = pushpack::robot::reach_cache::ReachCache::new(&inst, &placement);
+            places.iter().filter(|a| cache.ok(a)).count()
+        })
     });
     g.finish();
 }

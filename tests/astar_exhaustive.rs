@@ -19,7 +19,7 @@ use pushpack::instance::Instance;
 use pushpack::placement::{bl, Placement};
 use pushpack::plan::{build_plan, PlacementSolver, PlanOptions, Sequencer};
 use pushpack::robot::keypoints::{action_keypoints, path_length, pick_arm};
-use pushpack::robot::motion::action_reachable;
+use pushpack::robot::motion::{action_reach, Reach};
 use pushpack::robot::Arm;
 use pushpack::sequence::astar::{self, AstarSettings};
 use pushpack::sequence::{SearchStatus, SequenceOptions};
@@ -51,19 +51,20 @@ struct Enumerate<'a> {
     no_multi: bool,
     home: [Vector3<f64>; 2],
     memo: HashMap<Vec<i64>, Option<Best>>,
-    reach: std::cell::RefCell<HashMap<String, bool>>,
+    reach: std::cell::RefCell<HashMap<String, Option<Reach>>>,
 }
 
 impl Enumerate<'_> {
-    /// Reachability by inverse kinematics, memoised (it does not depend on the state).
-    fn reachable(&self, a: &Action) -> bool {
+    /// Reachability by inverse kinematics (memoised: it does not depend on the state), then
+    /// the objects still on the table that block the pick.
+    fn reachable(&self, a: &Action, layout: &Layout) -> bool {
         let k = format!("{a:?}");
-        if let Some(v) = self.reach.borrow().get(&k) {
-            return *v;
-        }
-        let v = action_reachable(self.inst, self.placement, a);
-        self.reach.borrow_mut().insert(k, v);
-        v
+        let r = match self.reach.borrow().get(&k) {
+            Some(v) => v.clone(),
+            None => action_reach(self.inst, self.placement, a),
+        };
+        self.reach.borrow_mut().insert(k, r.clone());
+        r.is_some_and(|r| r.free_when(|j| layout.state[j] == ObjState::Table))
     }
 
     fn actions(&self, layout: &Layout) -> Vec<Action> {
@@ -94,7 +95,7 @@ impl Enumerate<'_> {
                         grasp_axis: ax,
                         arm: pick_arm(inst, i),
                     };
-                    if layout.check(&a).is_ok() && self.reachable(&a) {
+                    if layout.check(&a).is_ok() && self.reachable(&a, layout) {
                         out.push(a);
                         break; // the grasp axis changes neither state nor cost
                     }
@@ -120,7 +121,7 @@ impl Enumerate<'_> {
                     distance: offset,
                     arm: pick_arm(inst, back),
                 };
-                if layout.check(&a).is_ok() && self.reachable(&a) {
+                if layout.check(&a).is_ok() && self.reachable(&a, layout) {
                     out.push(a);
                 }
                 if self.no_multi {

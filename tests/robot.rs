@@ -511,3 +511,107 @@ fn reachability_and_arm_selection() {
         assert_eq!(select_arm(&far, placement, a), None);
     }
 }
+
+/// exp1 with its objects lying on their largest face and free orientations: the placement stands
+/// them up, which a top-down pick cannot do.
+fn exp1_lying(extra: &str) -> Instance {
+    let text = std::fs::read_to_string(common::bundled("paper/exp1_4objects.toml"))
+        .unwrap()
+        .replace("up = \"x\"", "up = \"z\"")
+        .replace("orientations = \"upright\"", "orientations = \"any\"")
+        + extra;
+    Instance::parse(&text, false, "<exp1 lying>", None).unwrap()
+}
+
+#[test]
+fn turning_an_object_over_is_a_robot_issue_unless_the_cell_can_regrasp() {
+    let flips = |inst: &Instance, out: &PlanOutcome| {
+        out.plan
+            .placements
+            .iter()
+            .zip(&inst.objects)
+            .filter(|(p, o)| p.orientation.up != o.table.up)
+            .count()
+    };
+    let inst = exp1_lying("");
+    let out = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans");
+    assert!(flips(&inst, &out) > 0, "the placement should stand some object up");
+    let report = pushpack::verify::verify(&inst, &out.plan);
+    assert!(report.is_valid(), "{report}");
+    let turned: Vec<_> = report
+        .robot_issues
+        .iter()
+        .filter(|v| v.message.contains("cannot turn it over"))
+        .collect();
+    assert_eq!(turned.len(), flips(&inst, &out), "{report}");
+    assert!(!report.is_executable());
+
+    let inst = exp1_lying("\n[robot]\nregrasp = true\n");
+    assert!(inst.robot.regrasp);
+    let out = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans");
+    assert!(flips(&inst, &out) > 0);
+    let report = pushpack::verify::verify(&inst, &out.plan);
+    assert!(report.robot_issues.iter().all(|v| !v.message.contains("cannot turn it over")), "{report}");
+}
+
+#[test]
+fn a_neighbour_on_the_table_blocks_the_open_fingers_until_it_is_gone() {
+    use pushpack::actions::{Layout, ObjState, PlaceMode};
+    use pushpack::geometry::Axis2;
+    use pushpack::robot::motion::action_reach;
+    use pushpack::robot::reach_cache::ReachCache;
+    // exp1's 1a and 1b (5 cm × 4 cm footprints on the table) 1 cm apart in y: the open fingers
+    // (release clearance 0.5 cm + finger 1 cm beside each face) reach the neighbour when they
+    // close along y, not along x.
+    let base = std::fs::read_to_string(common::bundled("paper/exp1_4objects.toml")).unwrap();
+    let close = base.replace("x = 32.0\ny = 33.0", "x = 23.0\ny = 30.0");
+    assert_ne!(base, close, "exp1 layout changed: update this test");
+    for (text, near) in [(&base, false), (&close, true)] {
+        let inst = Instance::parse(text, false, "<exp1>", None).unwrap();
+        let placement = pushpack::plan::solve_placement(&inst, pushpack::plan::PlacementSolver::Bl, 1, 8, 10.0)
+            .unwrap()
+            .placement;
+        let (a, b) = (0usize, 1usize);
+        assert_eq!((inst.objects[a].id.as_str(), inst.objects[b].id.as_str()), ("1a", "1b"));
+        let cache = ReachCache::new(&inst, &placement);
+        let mut layout = Layout::new(&inst, &placement);
+        let d = inst.gripper.min_offset;
+        let mut modes = vec![PlaceMode::Direct];
+        for push_dir in pushpack::geometry::PushDir::ALL {
+            for k in 1..=3 {
+                modes.push(PlaceMode::Indirect {
+                    push_dir,
+                    offset: d * k as f64,
+                });
+            }
+        }
+        let (mut reachable, mut blocked) = (0, 0);
+        for mode in modes {
+            for ax in [Axis2::X, Axis2::Y] {
+                let act = Action::Place {
+                    object: a,
+                    mode,
+                    grasp_axis: ax,
+                    arm: pushpack::robot::keypoints::pick_arm(&inst, a),
+                };
+                // Some places are unreachable anyway (fingers against a wall).
+                let Some(r) = action_reach(&inst, &placement, &act) else {
+                    continue;
+                };
+                reachable += 1;
+                assert!(r.table_blockers.iter().flatten().all(|&j| j == b), "{r:?}");
+                layout.state[b] = ObjState::Table;
+                if r.table_blockers.iter().all(|v| v.contains(&b)) {
+                    blocked += 1;
+                    assert!(!cache.ok_in(&act, &layout));
+                    layout.state[b] = ObjState::Done;
+                    assert!(cache.ok_in(&act, &layout));
+                } else {
+                    assert!(cache.ok_in(&act, &layout));
+                }
+            }
+        }
+        assert!(reachable > 0);
+        assert_eq!(blocked > 0, near, "near = {near}: {blocked} of {reachable} blocked");
+    }
+}

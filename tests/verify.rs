@@ -780,6 +780,16 @@ const ROW: [(&str, BodyAxis, f64, f64); 4] = [
     ("1b", BodyAxis::X, 0.17, 0.0),
 ];
 
+/// exp1 with every orientation allowed: the hand-made placements lay the boxes flat, which the
+/// bundled file (objects standing, `upright`) does not allow.
+fn exp1_any() -> Instance {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(EXP1);
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("orientations = \"upright\"", "orientations = \"any\"");
+    Instance::parse(&text, false, EXP1, path.parent()).unwrap()
+}
+
 /// A hand-made placement of the 4-object instance: object, vertical body axis, corner.
 fn hand_placement(inst: &Instance, layout: &[(&str, BodyAxis, f64, f64)]) -> PlacementResult {
     let mut targets = vec![None; inst.n()];
@@ -836,7 +846,7 @@ fn push_line(inst: &Instance, ids: &[&str], push_dir: PushDir, distance: f64, pu
 }
 
 fn hand_verify(layout: &[(&str, BodyAxis, f64, f64)], actions: Vec<Action>) -> Report {
-    let (inst, _) = default_plan(EXP1);
+    let inst = exp1_any();
     let pr = hand_placement(&inst, layout);
     let plan = build(&inst, &pr, &PlanOptions::from_instance(&inst), actions);
     verify(&inst, &plan)
@@ -856,7 +866,7 @@ fn column_pair(inst: &Instance, at: f64) -> Vec<Action> {
 
 #[test]
 fn hand_made_column_push_is_valid_with_a_centred_pusher() {
-    let (inst, _) = default_plan(EXP1);
+    let inst = exp1_any();
     let pr = hand_placement(&inst, &FLAT);
     let at = push::centred_pusher(
         &inst,
@@ -907,7 +917,7 @@ fn a_push_through_another_object_is_a_swept_space_violation() {
 fn a_finger_beside_a_taller_object_is_blocked() {
     // 2b (3 cm high) first, then 1b directly with fingers along y: the -y finger goes down to
     // 4 - 1.5 = 2.5 cm, below 2b's top.
-    let (inst, _) = default_plan(EXP1);
+    let inst = exp1_any();
     let pr = hand_placement(&inst, &FLAT);
     let at = push::centred_pusher(
         &inst,
@@ -952,7 +962,7 @@ fn an_object_wider_than_the_gripper_opening_is_a_finger_slab_violation() {
 
 #[test]
 fn offsets_decreasing_toward_the_back_of_a_line_are_a_precedence_violation() {
-    let (inst, _) = default_plan(EXP1);
+    let inst = exp1_any();
     let pr = hand_placement(&inst, &FLAT);
     let at = push::centred_pusher(
         &inst,

@@ -92,6 +92,10 @@ impl BodyAxis {
             BodyAxis::Z => 2,
         }
     }
+    /// `x`, `y` or `z`.
+    pub fn name(self) -> &'static str {
+        ["x", "y", "z"][self.index()]
+    }
 }
 
 /// One of the six axis-aligned orientations of a box in C: which body axis is vertical, and

@@ -124,6 +124,10 @@ pub struct RobotFile {
     /// Clearance of transfer moves above the container wall top; default 0.08 m.
     #[serde(default)]
     pub transfer_clearance: Option<f64>,
+    /// Whether the cell can turn an object onto another face between pick and place (a regrasp
+    /// station, a second gripper, an operator); default false.
+    #[serde(default)]
+    pub regrasp: Option<bool>,
 }
 
 /// Home configuration per arm (radians).

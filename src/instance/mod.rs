@@ -218,6 +218,9 @@ pub struct RobotCell {
     pub table_z: f64,
     /// Clearance of transfer moves above the container wall top.
     pub transfer_clearance: f64,
+    /// The cell can turn objects over between pick and place (else a place that changes an
+    /// object's up axis is not executable by a top-down pick).
+    pub regrasp: bool,
 }
 
 impl RobotCell {
@@ -641,6 +644,7 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
         home,
         table_z,
         transfer_clearance,
+        regrasp: r.regrasp.unwrap_or(false),
     };
 
     // Planner settings.

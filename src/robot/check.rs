@@ -9,6 +9,7 @@ use super::ik::pose_residual;
 use super::keypoints::action_keypoints;
 use super::motion::{apply_action, collision_at, idle_arm, line_distance, segment_hand, ObjAt, LINE_LIMIT};
 use super::{ActionTrajectory, Arm};
+use crate::actions::Action;
 use crate::instance::Instance;
 use crate::plan::Plan;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
@@ -63,6 +64,27 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
                         r.tcp_offset, inst.robot.tcp_offset
                     ),
                 ));
+            }
+        }
+    }
+    // A top-down pick keeps the object's up axis; turning it over needs the cell's regrasp.
+    if !inst.robot.regrasp {
+        for (k, a) in actions.iter().enumerate() {
+            if let Action::Place { object, .. } = a {
+                let (o, t) = (&inst.objects[*object], &placement.targets[*object]);
+                if t.orientation.up != o.table.up {
+                    out.push((
+                        Some(k),
+                        format!(
+                            "object {} stands on its {}-face on the table and on its {}-face in the container: a \
+                             top-down pick cannot turn it over (set robot.regrasp = true if the cell can, or \
+                             allow only `upright` orientations)",
+                            o.id,
+                            o.table.up.name(),
+                            t.orientation.up.name()
+                        ),
+                    ));
+                }
             }
         }
     }

@@ -44,6 +44,14 @@ pub enum Arm {
 }
 
 impl Arm {
+    /// The other arm.
+    pub fn other(self) -> Arm {
+        match self {
+            Arm::Left => Arm::Right,
+            Arm::Right => Arm::Left,
+        }
+    }
+
     /// 0 for left, 1 for right.
     pub fn index(self) -> usize {
         match self {

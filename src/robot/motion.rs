@@ -28,12 +28,20 @@ use crate::geometry::{Axis2, BodyAxis, PushDir, Rect};
 use crate::instance::Instance;
 use crate::placement::Placement;
 use nalgebra::{Isometry3, Vector3};
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Planning tolerance of straight lines: largest TCP distance from the line between two samples (m).
 pub const LINE_TOLERANCE: f64 = 5e-5;
 /// The spec's bound on the deviation of a straight-line push (m), checked by the verifier.
 pub const LINE_LIMIT: f64 = 1e-3;
+/// Line tolerance of the reachability predicate (m): it needs to know that a line can be
+/// followed and roughly where the arm is, not the joint plan's fine waypoints.
+pub const PREDICATE_LINE_TOLERANCE: f64 = 1e-3;
+/// Planning tolerance of straight lines: largest turn of the tool from its interpolated
+/// orientation between two samples (rad).
+pub const ROT_TOLERANCE: f64 = 5e-4;
 /// Largest joint step between two waypoints of a straight line (rad).
 pub const MAX_LINE_STEP: f64 = 0.05;
 /// Joint step between collision samples of a joint-space move (rad).
@@ -149,9 +157,14 @@ fn specs(
             if reoriented {
                 notes.push(format!(
                     "object {} changes its up axis between the table and its target: a top-down pick cannot turn \
-                     it over; the joint plan assumes it is already in its target orientation when lowered into \
-                     the container (regrasp not modelled)",
-                    inst.objects[*object].id
+                     it over; the joint plan assumes the cell's regrasp (robot.regrasp{}) has it in its target \
+                     orientation when it is lowered into the container (the regrasp itself is not planned)",
+                    inst.objects[*object].id,
+                    if inst.robot.regrasp {
+                        " = true"
+                    } else {
+                        " is false: not executable"
+                    }
                 ));
             }
             let rel = release_rect(placement, *object, mode);
@@ -237,8 +250,68 @@ struct Ctx<'a> {
     at: Vec<ObjAt>,
     /// The idle arm as obstacles.
     other: Vec<Obstacle>,
-    /// Check collisions at all (off for the scene-independent reachability predicate).
-    collide: bool,
+    /// Which collisions to check.
+    scope: Scope,
+    /// Joint moves go to any IK branch at the target, not the nearest (the predicate).
+    fast_ik: bool,
+    /// Memo of IK results shared between the predicate's queries (see [`IkMemo`]).
+    memo: Option<&'a RefCell<IkMemo>>,
+}
+
+/// IK results of the reachability predicate by their exact inputs. Actions of one object share
+/// their table half (pre-grasp, grasp, lift: the same poses for every release mode), and an
+/// unreachable pose costs a search over every IK seed, so repeating it per mode dominated the
+/// predicate's time.
+#[derive(Debug, Default)]
+pub struct IkMemo {
+    map: HashMap<Vec<u64>, Result<Vec<[f64; 6]>, RobotError>>,
+}
+
+impl IkMemo {
+    fn get(
+        cell: Option<&RefCell<IkMemo>>,
+        key: impl FnOnce() -> Vec<u64>,
+        f: impl FnOnce() -> Result<Vec<[f64; 6]>, RobotError>,
+    ) -> Result<Vec<[f64; 6]>, RobotError> {
+        let Some(cell) = cell else {
+            return f();
+        };
+        let k = key();
+        if let Some(v) = cell.borrow().map.get(&k) {
+            return v.clone();
+        }
+        let v = f();
+        cell.borrow_mut().map.insert(k, v.clone());
+        v
+    }
+}
+
+/// Exact bits of a pose, a configuration and a few more numbers, as a memo key.
+fn key_bits(tag: u64, arm: Arm, poses: &[&Isometry3<f64>], q: Option<&[f64; 6]>, extra: &[f64]) -> Vec<u64> {
+    let mut k = vec![tag, arm.index() as u64];
+    for p in poses {
+        k.extend(p.translation.vector.iter().map(|x| x.to_bits()));
+        k.extend(p.rotation.coords.iter().map(|x| x.to_bits()));
+    }
+    if let Some(q) = q {
+        k.extend(q.iter().map(|x| x.to_bits()));
+    }
+    k.extend(extra.iter().map(|x| x.to_bits()));
+    k
+}
+
+/// Which collisions a [`Ctx`] checks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scope {
+    /// None: kinematics only (ranking hand variants).
+    Kinematic,
+    /// The reachability predicate: the straight lines of the action (descents, lifts, releases,
+    /// retreats, the push) against the fixed cell (walls, floor plate, table). Joint-space moves
+    /// depend on where the arm comes from and the objects on the state, so they are left to the
+    /// joint plan (objects on the table are handled as pick blockers).
+    StaticLines,
+    /// Everything: the joint plan.
+    Full,
 }
 
 impl Ctx<'_> {
@@ -252,6 +325,10 @@ impl Ctx<'_> {
     /// Obstacles during segment `seg` of `action` (before the TCP-dependent push motion).
     fn obstacles(&self, action: &Action, seg: usize, tcp: Option<&Vector3<f64>>) -> Vec<Obstacle> {
         let mut out = self.statics.clone();
+        if self.scope == Scope::StaticLines {
+            out.extend(self.other.iter().cloned());
+            return out;
+        }
         out.extend(self.other.iter().cloned());
         let n = self.inst.n();
         match action {
@@ -348,6 +425,19 @@ fn follow_line(
     b: &Isometry3<f64>,
     what: &str,
 ) -> Result<Vec<[f64; 6]>, RobotError> {
+    follow_line_tol(solver, q0, a, b, what, LINE_TOLERANCE)
+}
+
+/// [`follow_line`] with another position tolerance (the predicate only needs to know that the
+/// line can be followed, not the fine waypoints the joint plan emits).
+fn follow_line_tol(
+    solver: &IkSolver,
+    q0: &[f64; 6],
+    a: &Isometry3<f64>,
+    b: &Isometry3<f64>,
+    what: &str,
+    tol: f64,
+) -> Result<Vec<[f64; 6]>, RobotError> {
     let len = (b.translation.vector - a.translation.vector).norm();
     let ang = a.rotation.angle_to(&b.rotation);
     let n = (len / 0.01).max(ang / 0.05).ceil().max(1.0) as usize;
@@ -356,7 +446,7 @@ fn follow_line(
     for i in 1..=n {
         let s0 = (i - 1) as f64 / n as f64;
         let s1 = i as f64 / n as f64;
-        refine(solver, a, b, s0, s1, &mut out, 0, what, &mut worst)?;
+        refine(solver, a, b, s0, s1, &mut out, 0, what, &mut worst, tol)?;
     }
     Ok(out)
 }
@@ -372,6 +462,7 @@ fn refine(
     depth: usize,
     what: &str,
     worst: &mut (f64, f64),
+    tol: f64,
 ) -> Result<(), RobotError> {
     let q0 = *out.last().expect("starts with q0");
     let target = interp_pose(a, b, s1);
@@ -380,24 +471,29 @@ fn refine(
         .or_else(|_| solver.solve_near(&target, &q0))?;
     let jump = max_abs_diff(&q0, &q1);
     let (pa, pb) = (a.translation.vector, b.translation.vector);
-    let dev = [0.25, 0.5, 0.75]
-        .iter()
-        .map(|u| line_distance(&solver.fk(&lerp(&q0, &q1, *u)).translation.vector, &pa, &pb))
-        .fold(0.0, f64::max);
-    if jump > MAX_LINE_STEP || dev > LINE_TOLERANCE {
+    // Position off the line, and orientation off the interpolated one: a held box reaches
+    // ~0.05 m from the TCP, so a turn of ROT_TOLERANCE moves its corners by < 0.03 mm.
+    let (mut dev, mut rot) = (0.0f64, 0.0f64);
+    for u in [0.25, 0.5, 0.75] {
+        let f = solver.fk(&lerp(&q0, &q1, u));
+        dev = dev.max(line_distance(&f.translation.vector, &pa, &pb));
+        let want = interp_pose(a, b, s0 + u * (s1 - s0));
+        rot = rot.max(f.rotation.angle_to(&want.rotation));
+    }
+    if jump > MAX_LINE_STEP || dev > tol || rot > ROT_TOLERANCE * tol / LINE_TOLERANCE {
         worst.0 = worst.0.max(dev);
         worst.1 = worst.1.max(jump);
         if depth >= 14 {
             return Err(RobotError::Path {
                 what: what.to_string(),
                 deviation: worst.0,
-                limit: LINE_TOLERANCE,
+                limit: tol,
                 jump: worst.1,
             });
         }
         let sm = 0.5 * (s0 + s1);
-        refine(solver, a, b, s0, sm, out, depth + 1, what, worst)?;
-        refine(solver, a, b, sm, s1, out, depth + 1, what, worst)?;
+        refine(solver, a, b, s0, sm, out, depth + 1, what, worst, tol)?;
+        refine(solver, a, b, sm, s1, out, depth + 1, what, worst, tol)?;
     } else {
         out.push(q1);
     }
@@ -416,7 +512,7 @@ fn check_samples(
     what: &str,
     min_clear: &mut f64,
 ) -> Result<(), RobotError> {
-    if !ctx.collide {
+    if ctx.scope == Scope::Kinematic {
         return Ok(());
     }
     let model = &ctx.inst.robot.model;
@@ -480,8 +576,21 @@ fn joint_move(
 ) -> Result<Vec<Vec<[f64; 6]>>, RobotError> {
     let check = |p: &[[f64; 6]], mc: &mut f64| check_samples(ctx, solver, action, seg, hand, &densify(p), what, mc);
     let from = solver.fk(q);
-    let qt = solver.solve_near(target, q)?;
+    // The predicate only needs some branch at the target (the joint move is not checked); the
+    // nearest one costs a search over every IK seed when the move is long.
+    let qt = if ctx.fast_ik {
+        IkMemo::get(
+            ctx.memo,
+            || key_bits(1, solver.arm(), &[target], None, &[]),
+            || solver.solve_any(target).map(|q| vec![q]),
+        )?[0]
+    } else {
+        solver.solve_near(target, q)?
+    };
     let joint = vec![*q, qt];
+    if ctx.scope != Scope::Full {
+        return Ok(vec![joint]);
+    }
     let joint_err = match check(&joint, min_clear) {
         Ok(()) => return Ok(vec![joint]),
         Err(e) => e,
@@ -544,7 +653,12 @@ fn plan_variant(
         let from = solver.fk(&q);
         let legs: Vec<Vec<[f64; 6]>> = match sp.mv {
             Move::Line => {
-                let p = follow_line(solver, &q, &from, &sp.target, &what)?;
+                let tol = if ctx.fast_ik { PREDICATE_LINE_TOLERANCE } else { LINE_TOLERANCE };
+                let p = IkMemo::get(
+                    ctx.memo,
+                    || key_bits(2, solver.arm(), &[&from, &sp.target], Some(&q), &[tol]),
+                    || follow_line_tol(solver, &q, &from, &sp.target, &what, tol),
+                )?;
                 check_samples(ctx, solver, action, k, &hand, &densify(&p), &what, &mut min_clear)?;
                 vec![p]
             }
@@ -572,21 +686,26 @@ fn plan_variant(
     })
 }
 
-/// Plan the best variant (hand turned by 0 or π at the table and in the container).
-fn plan_action(
+/// Hand turned by π (at the table, in the container) in each variant of an action.
+fn hand_variants(action: &Action) -> &'static [[bool; 2]] {
+    match action {
+        Action::Place { .. } => &[[false, false], [false, true], [true, false], [true, true]],
+        Action::Push { .. } => &[[false, false], [true, false]],
+    }
+}
+
+/// The hand variants of `action` (turned by 0 or π at the table and in the container) that are
+/// kinematically feasible from `start`, ranked by joint motion (least first), and the first error
+/// when some were not.
+fn rank_variants(
     ctx: &Ctx,
     solver: &IkSolver,
     action: &Action,
     start: &[f64; 6],
     start_hand: Hand,
     notes: &mut Vec<String>,
-) -> Result<Motion, RobotError> {
-    let flips: &[[bool; 2]] = match action {
-        Action::Place { .. } => &[[false, false], [false, true], [true, false], [true, true]],
-        Action::Push { .. } => &[[false, false], [true, false]],
-    };
-    // Cheap pass without collision checks ranks the variants by joint motion; the full pass then
-    // takes the first (least motion) variant that is collision-free.
+) -> (Vec<(f64, [bool; 2])>, Option<RobotError>) {
+    let flips = hand_variants(action);
     let mut ranked: Vec<(f64, [bool; 2])> = Vec::new();
     let mut first_err: Option<RobotError> = None;
     let free = Ctx {
@@ -595,7 +714,9 @@ fn plan_action(
         statics: Vec::new(),
         at: ctx.at.clone(),
         other: Vec::new(),
-        collide: false,
+        scope: Scope::Kinematic,
+        fast_ik: ctx.fast_ik,
+        memo: ctx.memo,
     };
     for f in flips {
         let mut n = Vec::new();
@@ -610,34 +731,43 @@ fn plan_action(
             }
         }
     }
-    if !ctx.collide {
-        return ranked
-            .iter()
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(c, f)| {
-                let sp = specs(ctx.inst, ctx.placement, action, *f, &mut Vec::new());
-                Motion {
-                    segments: Vec::new(),
-                    key_q: Vec::new(),
-                    specs: sp,
-                    cost: *c,
-                    clearance: f64::INFINITY,
-                }
-            })
-            .ok_or_else(|| first_err.expect("at least one variant"));
-    }
     ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut coll_err: Option<RobotError> = None;
+    (ranked, first_err)
+}
+
+/// Plan the best variant: the cheap kinematic pass ranks the variants by joint motion, the full
+/// pass then takes the first (least motion) variant that is collision-free.
+fn plan_action(
+    ctx: &Ctx,
+    solver: &IkSolver,
+    action: &Action,
+    start: &[f64; 6],
+    start_hand: Hand,
+    notes: &mut Vec<String>,
+) -> Result<Motion, RobotError> {
+    let (ranked, first_err) = rank_variants(ctx, solver, action, start, start_hand, notes);
+    let mut errs: Vec<String> = Vec::new();
     for (_, f) in &ranked {
         let sp = specs(ctx.inst, ctx.placement, action, *f, &mut Vec::new());
         match plan_variant(ctx, solver, action, sp, start, start_hand) {
             Ok(m) => return Ok(m),
             Err(e) => {
-                coll_err.get_or_insert(e);
+                let e = e.to_string();
+                if !errs.contains(&e) {
+                    errs.push(e);
+                }
             }
         }
     }
-    Err(coll_err.or(first_err).expect("at least one variant"))
+    match (errs.len(), first_err) {
+        (0, e) => Err(e.expect("at least one variant")),
+        // Every hand variant failed: say why each did, not just the first.
+        (1, _) => Err(RobotError::Other(errs.remove(0))),
+        _ => Err(RobotError::Other(format!(
+            "every hand variant failed: {}",
+            errs.join("; ")
+        ))),
+    }
 }
 
 /// Short label of an action (`place 1a`, `push 2a+4a`).
@@ -658,11 +788,84 @@ pub fn with_arm(action: &Action, arm: Arm) -> Action {
     a
 }
 
-/// Scene-independent feasibility of `action` for its own arm from the home pose: every key pose
-/// reachable within the joint limits and every straight line followable (no collision check —
-/// the state of the container is not known here; the finger slabs are the planner's job).
-/// Returns the motion cost (joint path length minus a margin bonus) when feasible.
-fn reach_cost(inst: &Instance, placement: &Placement, action: &Action) -> Option<f64> {
+/// What the action planner needs to know about one action for its own arm (see
+/// [`action_reach`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reach {
+    /// Joint path length from home of the cheapest feasible hand variant (rad), minus half its
+    /// smallest joint margin at the key poses (capped at 0.5 rad).
+    pub cost: f64,
+    /// For every feasible hand variant, the other objects that block it while they are still on
+    /// the table (the open fingers, the hand or the held object would hit them during the grasp or
+    /// the lift). Empty for pushes.
+    pub table_blockers: Vec<Vec<usize>>,
+}
+
+impl Reach {
+    /// Whether some hand variant is free, given which objects are still on the table.
+    pub fn free_when(&self, on_table: impl Fn(usize) -> bool) -> bool {
+        self.table_blockers.is_empty() || self.table_blockers.iter().any(|b| !b.iter().any(|&j| on_table(j)))
+    }
+}
+
+/// Objects still on the table (other than the picked one) that collide with the grasp and lift
+/// lines of a place motion.
+fn blockers_of(ctx: &Ctx, solver: &IkSolver, action: &Action, m: &Motion) -> Vec<usize> {
+    let Action::Place { object, .. } = action else {
+        return Vec::new();
+    };
+    let inst = ctx.inst;
+    let here = &inst.objects[*object].table;
+    let near: Vec<(usize, Obstacle)> = (0..inst.n())
+        .filter(|&j| j != *object)
+        .filter(|&j| {
+            let c = &inst.objects[j].table;
+            (c.x - here.x).hypot(c.y - here.y) < 0.25
+        })
+        .map(|j| (j, object_on_table(inst, j)))
+        .collect();
+    let mut out = Vec::new();
+    for seg in 1..=2 {
+        let hand = Hand {
+            opening: m.specs[seg - 1].opening,
+            held: m.specs[seg - 1].held,
+        };
+        for leg in &m.segments[seg] {
+            for q in densify(leg) {
+                let parts = robot_parts(&inst.robot.model, inst, solver.arm(), &q, &hand);
+                for (j, o) in &near {
+                    if !out.contains(j) && first_collision(&parts, std::slice::from_ref(o), |_, _| false).is_some() {
+                        out.push(*j);
+                    }
+                }
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// The action planner's predicate for `action` with its own arm, from the arm's home pose: every
+/// key pose reachable within the joint limits and every straight line followable, in some hand
+/// orientation, and the straight lines of that variant free of the fixed cell (walls, floor
+/// plate, table). Objects in the container are the finger and pusher slabs' job
+/// ([`crate::actions::Layout::check`]); objects on the table are returned as blockers.
+/// `None` when no hand variant passes.
+pub fn action_reach(inst: &Instance, placement: &Placement, action: &Action) -> Option<Reach> {
+    action_reach_memo(inst, placement, action, &RefCell::new(IkMemo::default()), false)
+}
+
+/// [`action_reach`] sharing IK results with earlier queries of the same instance (the memo must
+/// not be shared across instances with different robots). With `first_free`, stops at the first
+/// hand variant without table blockers: feasibility is then settled, but `cost` is that
+/// variant's, not the least.
+pub fn action_reach_memo(
+    inst: &Instance,
+    placement: &Placement,
+    action: &Action,
+    memo: &RefCell<IkMemo>,
+    first_free: bool,
+) -> Option<Reach> {
     let arm = action.arm();
     if !inst.robot.arms.contains(&arm) {
         return None;
@@ -670,10 +873,14 @@ fn reach_cost(inst: &Instance, placement: &Placement, action: &Action) -> Option
     let ctx = Ctx {
         inst,
         placement,
-        statics: Vec::new(),
+        statics: static_obstacles(inst),
         at: vec![ObjAt::Table; inst.n()],
-        other: Vec::new(),
-        collide: false,
+        // The joint plan parks an idle arm at home when it is in the way, so the other arm at
+        // home is part of the fixed cell.
+        other: idle_arm(inst, arm.other(), &inst.robot.home[arm.other().index()], 0.0),
+        scope: Scope::StaticLines,
+        fast_ik: true,
+        memo: Some(memo),
     };
     let solver = IkSolver::new(&inst.robot.model, arm, &inst.robot.tcp_offset);
     let home = inst.robot.home[arm.index()];
@@ -681,16 +888,29 @@ fn reach_cost(inst: &Instance, placement: &Placement, action: &Action) -> Option
         opening: 0.0,
         held: None,
     };
-    plan_action(&ctx, &solver, action, &home, hand, &mut Vec::new())
-        .ok()
-        .map(|m| m.cost)
+    let mut cost = f64::INFINITY;
+    let mut table_blockers = Vec::new();
+    for f in hand_variants(action) {
+        let sp = specs(inst, placement, action, *f, &mut Vec::new());
+        if let Ok(m) = plan_variant(&ctx, &solver, action, sp, &home, hand) {
+            cost = cost.min(m.cost);
+            let b = blockers_of(&ctx, &solver, action, &m);
+            let free = b.is_empty();
+            if !table_blockers.contains(&b) {
+                table_blockers.push(b);
+            }
+            if free && first_free {
+                break;
+            }
+        }
+    }
+    cost.is_finite().then_some(Reach { cost, table_blockers })
 }
 
-/// Whether the action's arm can execute every key pose of `action` (IK within joint limits in
-/// some hand orientation, straight lines followable). The action planner's reachability
-/// predicate: an action no arm reaches is not a candidate.
+/// Whether the action's arm can execute `action` when no other object is in the way (see
+/// [`action_reach`]); table blockers are ignored here.
 pub fn action_reachable(inst: &Instance, placement: &Placement, action: &Action) -> bool {
-    reach_cost(inst, placement, action).is_some()
+    action_reach(inst, placement, action).is_some()
 }
 
 /// The allowed arms that can execute `action` (each tried in place of the action's own arm).
@@ -703,14 +923,14 @@ pub fn arms_reaching(inst: &Instance, placement: &Placement, action: &Action) ->
         .collect()
 }
 
-/// The arm that executes `action` best: among the allowed arms that reach every key pose, the one
-/// with the least joint motion from its home pose (joint path length in rad, minus half the
+/// The arm that executes `action` best: among the allowed arms that pass [`action_reach`], the
+/// one with the least joint motion from its home pose (joint path length in rad, minus half the
 /// smallest joint margin at the key poses, capped at 0.5 rad). `None` when no arm reaches.
 pub fn select_arm(inst: &Instance, placement: &Placement, action: &Action) -> Option<Arm> {
     inst.robot
         .arms
         .iter()
-        .filter_map(|a| reach_cost(inst, placement, &with_arm(action, *a)).map(|c| (*a, c)))
+        .filter_map(|a| action_reach(inst, placement, &with_arm(action, *a)).map(|r| (*a, r.cost)))
         .min_by(|x, y| x.1.total_cmp(&y.1))
         .map(|(a, _)| a)
 }
@@ -768,7 +988,9 @@ fn home_move(
         statics: static_obstacles(inst),
         at: at.to_vec(),
         other,
-        collide: true,
+        scope: Scope::Full,
+        fast_ik: false,
+        memo: None,
     };
     let solver = IkSolver::new(&inst.robot.model, arm, &inst.robot.tcp_offset);
     // Obstacles of an idle move = every object where it is (an empty push sees them so).
@@ -925,7 +1147,9 @@ pub fn plan_trajectories(
             statics: statics.clone(),
             at: at.clone(),
             other: idle_obstacles(other, &q_cur[other.index()], &hand_cur[other.index()]),
-            collide: true,
+            scope: Scope::Full,
+            fast_ik: false,
+        memo: None,
         };
         let solver = &solvers[arm.index()];
         // An idle arm whose hand hangs over the container is in the way of every action there:
@@ -1130,7 +1354,9 @@ pub(crate) fn collision_at(
         statics: static_obstacles(inst),
         at: at.to_vec(),
         other: other.to_vec(),
-        collide: true,
+        scope: Scope::Full,
+        fast_ik: false,
+        memo: None,
     };
     let idle = Action::Push {
         objects: vec![],

@@ -165,12 +165,30 @@ pub fn time_segment(
             (0.5 * alpha * ta * ta + peak * (t - ta), peak)
         }
     };
+    // Time at which the path parameter reaches x (inverse of the profile).
+    let xa = 0.5 * alpha * ta * ta;
+    let time_at = |x: f64| -> f64 {
+        if x <= xa {
+            (2.0 * x / alpha).sqrt()
+        } else if x >= l - xa {
+            dur - (2.0 * (l - x).max(0.0) / alpha).sqrt()
+        } else {
+            ta + (x - xa) / peak
+        }
+    };
+    // Samples every ≤ sample_dt, plus one at every waypoint: a controller interpolates between
+    // points, and without the waypoints it would cut the corners of the planned (collision-checked)
+    // path.
     let n = (dur / opts.sample_dt).ceil().max(1.0) as usize;
-    let mut out = Vec::with_capacity(n + 1);
+    let mut times: Vec<f64> = (0..=n).map(|i| dur * i as f64 / n as f64).collect();
+    times.extend(tau[1..tau.len() - 1].iter().map(|&x| time_at(x).clamp(0.0, dur)));
+    times.sort_by(f64::total_cmp);
+    times.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let mut out = Vec::with_capacity(times.len());
     let mut k = 0;
-    for i in 0..=n {
-        let t = dur * i as f64 / n as f64;
-        let (x, rate) = if i == n { (l, 0.0) } else { profile(t) };
+    let last = times.len() - 1;
+    for (i, &t) in times.iter().enumerate() {
+        let (x, rate) = if i == last { (l, 0.0) } else { profile(t) };
         while k + 2 < tau.len() && x > tau[k + 1] {
             k += 1;
         }

@@ -507,7 +507,7 @@ impl<'a> Search<'a> {
                         grasp_axis: ax,
                         arm,
                     };
-                    layout.check(&a).ok().filter(|_| self.reach.ok(&a)).map(|m| (a, m))
+                    layout.check(&a).ok().filter(|_| self.reach.ok_in(&a, &layout)).map(|m| (a, m))
                 }) {
                     out.push((a, m));
                 }
