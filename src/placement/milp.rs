@@ -505,6 +505,8 @@ fn propagate(cands: &mut [Cand], k: usize, transposable: bool, above: &dyn Fn(f6
 /// Largest grid model (cover-row non-zeros) built before falling back to the disjunctive model.
 const GRID_MAX_NNZ: usize = 400_000;
 
+/// The grid limit, overridable by `PUSHPACK_GRID_MAX_NNZ` for measurements (how the 400k
+/// default was chosen against 60k: docs/benchmarks.md).
 fn grid_max_nnz() -> usize {
     std::env::var("PUSHPACK_GRID_MAX_NNZ")
         .ok()
