@@ -5,7 +5,7 @@
 //! and the area gain over Bottom-Left. Run:
 //!
 //! ```sh
-//! cargo bench --bench placement_random -- [--sizes 4,6,8,10,12,16] [--count 10] [--time-limit 60]
+//! cargo bench --bench placement_random -- [--sizes 4,6,8,10,12,16] [--count 10] [--seeds 0,3] [--time-limit 60]
 //! ```
 
 use pushpack::control::TimeLimit;
@@ -42,13 +42,22 @@ fn main() {
         .collect();
     let count: u64 = arg(&args, "--count", 10);
     let limit: f64 = arg(&args, "--time-limit", 60.0);
+    // `--seeds 3,7` runs just those seeds (for instrumented reruns of single instances).
+    let seeds: Vec<u64> = match args.iter().position(|a| a == "--seeds") {
+        Some(i) => args
+            .get(i + 1)
+            .map(|v| v.split(',').filter_map(|s| s.parse().ok()).collect())
+            .unwrap_or_default(),
+        None => (0..count).collect(),
+    };
+    let count = seeds.len() as u64;
     println!("| objects | instances | proven | share proven | median time to proof (s) | max time to proof (s) | mean gap at limit | mean area gain over BL |");
     println!("|---|---|---|---|---|---|---|---|");
     for &n in &sizes {
         let mut times = Vec::new();
         let mut gaps = Vec::new();
         let mut gains = Vec::new();
-        for seed in 0..count {
+        for &seed in &seeds {
             let kinds = 2 + (seed as usize % 3);
             let text =
                 to_toml(&random_instance(&GenerateParams::new(n, kinds.min(n), seed)).expect("valid parameters"));

@@ -228,3 +228,68 @@ fn candidate_widths_are_subset_sums() {
     let c = milp::candidate_widths(&fps, inst.container.width);
     assert!(c.iter().any(|v| (v - w).abs() < 1e-9), "{w} not in {c:?}");
 }
+
+/// Instance text with the given kinds (`[a, b, c]` mm, count) on the common table slots.
+fn kinds_instance_text(kinds: &[([u32; 3], usize)], orientations: &str) -> String {
+    let base = common::random_instance_text_step(0, 1, 1, orientations, 5);
+    let header = &base[..base.find("[[kinds]]").expect("generated text has kinds")];
+    let mut s = header.to_string();
+    for (k, (size, _)) in kinds.iter().enumerate() {
+        s += &format!(
+            "[[kinds]]\nname = \"k{k}\"\nsize = [{}, {}, {}]\nmass = 0.05\n",
+            size[0], size[1], size[2]
+        );
+    }
+    let slots: Vec<(i32, i32)> = [230, 310]
+        .iter()
+        .flat_map(|&x| [240, 320, 400].iter().flat_map(move |&y| [(x, y), (x, -y)]))
+        .collect();
+    let mut i = 0;
+    for (k, (_, count)) in kinds.iter().enumerate() {
+        for _ in 0..*count {
+            let (x, y) = slots[i % slots.len()];
+            s += &format!(
+                "[[objects]]\nid = \"o{i}\"\nkind = \"k{k}\"\nx = {x}\ny = {y}\norientations = \"{orientations}\"\n"
+            );
+            i += 1;
+        }
+    }
+    s
+}
+
+/// Long boxes (wider than half of most candidate widths, so the stacking bound of the width
+/// enumeration is active and often tight), mixed with small ones, some on a 1 mm grid so depth
+/// sums are irregular: the per-width depth bounds and their rounding to depth sums must never
+/// close a width that holds the optimum.
+#[test]
+fn milp_matches_exhaustive_enumeration_on_long_boxes() {
+    let cases: [&[([u32; 3], usize)]; 5] = [
+        &[([70, 25, 30], 3), ([30, 30, 30], 2)],
+        &[([65, 30, 30], 2), ([40, 35, 30], 2), ([33, 27, 30], 1)],
+        &[([60, 20, 30], 4), ([45, 45, 30], 1)],
+        &[([71, 23, 40], 2), ([37, 31, 30], 3)],
+        &[([50, 26, 30], 3), ([26, 26, 30], 3)],
+    ];
+    for (c, kinds) in cases.iter().enumerate() {
+        for ori in ["upright", "any"] {
+            let inst = common::parse(&kinds_instance_text(kinds, ori));
+            let blr = bl::solve(&inst, c as u64, 64, &TimeLimit::new(30.0)).unwrap();
+            let settings = milp::MilpSettings {
+                time_limit: 60.0,
+                contact_stage: true,
+                seed: c as u64,
+            };
+            let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(60.0)).unwrap();
+            assert!(r.placement.violations(&inst).is_empty(), "case {c} {ori}");
+            let area = r.placement.occupied_area();
+            let exact = brute_force_area(&inst, blr.placement.occupied_area());
+            assert_eq!(r.status, PlacementStatus::Optimal, "case {c} {ori}");
+            assert!(
+                (area - exact).abs() <= 1e-9,
+                "case {c} {ori}: MILP {area} vs exhaustive {exact}"
+            );
+            assert!(r.lower_bound >= area - 1e-9 && r.lower_bound <= area + 1e-9);
+            assert!(area <= blr.placement.occupied_area() + 1e-12);
+        }
+    }
+}

@@ -5,13 +5,15 @@
 //! without growing its extents, and in a BL-stable placement every right edge is a sum of
 //! footprint widths along a chain from the left wall. So the optimal occupied width `W*` is a
 //! subset sum of footprint x-extents (one orientation per object). For each candidate width
-//! `W` the MILP `depth(W)` minimises the depth `D` subject to every footprint inside
-//! `[0, W] × [0, D]`; the optimum area is `min_W W·depth(W)`. Candidates are visited in order
-//! of a valid lower bound `W·max(Σ minimal areas / W, largest minimal depth)`, and the search
-//! stops when that bound reaches the incumbent (the Bottom-Left area at the start). The
-//! reported `lower_bound` is the minimum over all candidates of what is proven about them:
-//! `W·depth(W)` when solved, HiGHS's dual bound when stopped, the trivial bound when not
-//! visited. `optimal` is reported only when that bound meets the area.
+//! `W` a MILP minimises the depth `D(W)` with every footprint inside `[0, W] × [0, D]`; the
+//! optimum area is `min_W W·D(W)`. `D(W)` is itself a subset sum of y-extents, so every depth
+//! bound is rounded up to those sums. Each candidate carries a proven bound `D_lower(W)`
+//! (area, largest depth, stacked wide objects; spread to narrower widths because `D` does not
+//! grow with `W`, and to transposed widths when placements transpose). Candidates are visited
+//! by increasing `W·D_lower(W)`, each visit with the cut `D ≤` one step above that bound and a
+//! time cap; a capped candidate keeps its dual bound and is revisited later with a larger cap.
+//! The reported `lower_bound` is the least `W·D_lower(W)` over the candidates not solved, and
+//! `optimal` is reported only when it meets the area (docs/algorithms.md).
 //!
 //! A second, lexicographic MILP maximises the contact length among placements inside the
 //! optimal extents, with BL-stability as constraints, warm-started with the compacted
@@ -460,8 +462,57 @@ impl GridModel {
     }
 }
 
+/// Tolerance on depths (m): far below any size step, far above solver noise.
+const DEPTH_TOL: f64 = 1e-7;
+/// Tolerance on areas (m²) when comparing bounds with the incumbent.
+const AREA_TOL: f64 = 1e-9;
+/// Depth steps above the proven bound that one visit's cut allows (see `solve`).
+const CUT_WINDOW: usize = 1;
+/// Share of the time limit one visit of a width candidate may take at first.
+const CAP_SHARE: f64 = 0.1;
+
+/// A width candidate and what is proven about it.
+struct Cand {
+    w: f64,
+    /// Proven lower bound on D(w), the least depth of a placement no wider than w.
+    dl: f64,
+    /// D(w) is known (dl is it).
+    solved: bool,
+    /// Visits stopped by their cap.
+    tries: u32,
+    /// HiGHS's answer could not be turned into a proof; only dl is kept.
+    given_up: bool,
+}
+
+/// Spread what is proven about candidate `k` to the others. D(W) does not grow with W, so a
+/// depth bound at `w` holds at every narrower width. When placements transpose, "nothing fits
+/// in w × d" (d the largest depth below the bound) also says "nothing fits in d × w": every
+/// width up to d needs a depth above w.
+fn propagate(cands: &mut [Cand], k: usize, transposable: bool, above: &dyn Fn(f64) -> f64, below: &dyn Fn(f64) -> f64) {
+    let (w, dl) = (cands[k].w, cands[k].dl);
+    for c in cands.iter_mut().filter(|c| c.w <= w + EPS) {
+        c.dl = c.dl.max(dl);
+    }
+    if transposable && dl.is_finite() {
+        let d = below(dl);
+        let lift = above(w);
+        for c in cands.iter_mut().filter(|c| c.w <= d + EPS) {
+            c.dl = c.dl.max(lift);
+        }
+    }
+}
+
 /// Largest grid model (cover-row non-zeros) built before falling back to the disjunctive model.
-const GRID_MAX_NNZ: usize = 60_000;
+const GRID_MAX_NNZ: usize = 400_000;
+
+/// The grid limit, overridable by `PUSHPACK_GRID_MAX_NNZ` for measurements (how the 400k
+/// default was chosen against 60k: docs/benchmarks.md).
+fn grid_max_nnz() -> usize {
+    std::env::var("PUSHPACK_GRID_MAX_NNZ")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(GRID_MAX_NNZ)
+}
 
 /// One depth-minimisation MILP for width `w`, cut `d`: the HiGHS result and its placement.
 fn depth_milp(
@@ -472,6 +523,7 @@ fn depth_milp(
     best: &Placement,
     time_left: f64,
     seed: u64,
+    abs_gap: f64,
 ) -> Result<Option<(Solved, Option<Placement>, &'static str)>> {
     let mut cols = Cols {
         pv: ProblemVariables::new(),
@@ -479,7 +531,11 @@ fn depth_milp(
     };
     let (bw, bd) = best.extent();
     let warm_fits = bw <= w + EPS && bd <= d + EPS;
-    if GridModel::size(inst, fps, w, d) <= GRID_MAX_NNZ {
+    let nnz = GridModel::size(inst, fps, w, d);
+    if std::env::var_os("PUSHPACK_DEBUG").is_some() {
+        eprintln!("  grid size {nnz} nnz (limit {})", grid_max_nnz());
+    }
+    if nnz <= grid_max_nnz() {
         let t0 = Instant::now();
         let Some(model) = GridModel::build(inst, fps, w, d, &mut cols) else {
             return Ok(None);
@@ -501,7 +557,7 @@ fn depth_milp(
                 t0.elapsed().as_secs_f64()
             );
         }
-        let solved = run_highs(problem, init.as_deref(), time_left, seed)?;
+        let solved = run_highs(problem, init.as_deref(), time_left, seed, abs_gap, false)?;
         let p = solved.cols.as_deref().map(|c| model.extract(fps, inst.n(), c));
         return Ok(Some((solved, p, "grid")));
     }
@@ -517,7 +573,7 @@ fn depth_milp(
     for c in model.constraints.iter().cloned() {
         problem = problem.with(c);
     }
-    let solved = run_highs(problem, init.as_deref(), time_left, seed)?;
+    let solved = run_highs(problem, init.as_deref(), time_left, seed, abs_gap, true)?;
     let p = solved.cols.as_deref().map(|c| extract(inst, fps, &model, c));
     Ok(Some((solved, p, "disjunctive")))
 }
@@ -536,6 +592,8 @@ fn run_highs(
     initial: Option<&[f64]>,
     time_left: f64,
     seed: u64,
+    abs_gap: f64,
+    presolve: bool,
 ) -> Result<Solved> {
     let t0 = Instant::now();
     let mut model = problem.try_into_inner().map_err(|e| Error::Infeasible {
@@ -548,9 +606,12 @@ fn run_highs(
     }
     model.set_option("time_limit", time_left.max(0.01));
     model.set_option("mip_rel_gap", 0.0);
-    model.set_option("mip_abs_gap", 1e-9);
+    model.set_option("mip_abs_gap", abs_gap);
     model.set_option("random_seed", (seed % i32::MAX as u64) as i32);
     model.set_option("threads", 1);
+    if !presolve {
+        model.set_option("presolve", "off");
+    }
     if let Some(sol) = initial {
         model.set_solution(Some(sol), None, None, None);
     }
@@ -709,116 +770,220 @@ pub fn solve(
     let (cw, cd) = (inst.container.width, inst.container.depth);
     let sum_min_area = area_lower_bound(inst);
     let widths = candidate_widths(&fps, cw);
-    // Trivial bound per candidate width; None when some object cannot fit that narrow.
-    let trivial = |w: f64| -> Option<f64> {
-        let mut dmin: f64 = 0.0;
-        for opts in &fps {
-            let m = opts
-                .iter()
-                .filter(|(f, _, _)| f[0] <= w + EPS)
-                .map(|(f, _, _)| f[1])
-                .fold(f64::INFINITY, f64::min);
-            if !m.is_finite() {
-                return None;
-            }
-            dmin = dmin.max(m);
-        }
-        let d = dmin.max(sum_min_area / w);
-        if d > cd + EPS {
-            None
+    // D(W), the least depth with width at most W, is the depth of a compacted placement, so it
+    // is a subset sum of footprint y-extents (one per object). Every depth bound below is
+    // rounded up to this set, and every depth cut down to it.
+    let yv: Vec<Vec<f64>> = fps.iter().map(|o| o.iter().map(|(f, _, _)| f[1]).collect()).collect();
+    let depths: Vec<f64> = subset_sums(&yv, cd + EPS).into_iter().filter(|&t| t > EPS).collect();
+    let ceil_depth = |d: f64| -> f64 {
+        let i = depths.partition_point(|&t| t < d - DEPTH_TOL);
+        depths.get(i).copied().unwrap_or(f64::INFINITY)
+    };
+    let floor_depth = |d: f64| -> f64 {
+        let i = depths.partition_point(|&t| t <= d + DEPTH_TOL);
+        if i == 0 {
+            0.0
         } else {
-            Some(w * d)
+            depths[i - 1]
         }
     };
-    let mut cands: Vec<(f64, f64)> = widths.iter().filter_map(|&w| trivial(w).map(|lb| (w, lb))).collect();
-    cands.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.total_cmp(&b.0)));
+    // Smallest depth strictly above `d`: what "infeasible with the cut D ≤ d" proves.
+    let above = |d: f64| -> f64 {
+        let i = depths.partition_point(|&t| t <= d + DEPTH_TOL);
+        depths.get(i).copied().unwrap_or(f64::INFINITY)
+    };
+    // HiGHS may stop once its gap is below the closest spacing of two depths: then no depth
+    // lies strictly between its dual bound and its incumbent, and the rounded bound proves it.
+    let spacing = depths.windows(2).map(|p| p[1] - p[0]).fold(f64::INFINITY, f64::min);
+    let abs_gap = if spacing.is_finite() {
+        (spacing - 4.0 * DEPTH_TOL).max(1e-9)
+    } else {
+        1e-9
+    };
+    let initial_depth = |w: f64| -> f64 {
+        // Per object among the footprints that fit width w: the least depth (each object needs
+        // it), the least area (the area bound), and the objects all of whose fitting
+        // footprints are wider than w/2 (no two of them sit side by side, so their depths add).
+        let (mut dmax, mut area, mut wide) = (0.0f64, 0.0, 0.0);
+        for opts in &fps {
+            let fit: Vec<[f64; 2]> = opts
+                .iter()
+                .map(|(f, _, _)| *f)
+                .filter(|f| f[0] <= w + EPS && f[1] <= cd + EPS)
+                .collect();
+            if fit.is_empty() {
+                return f64::INFINITY;
+            }
+            let dmin = fit.iter().map(|f| f[1]).fold(f64::INFINITY, f64::min);
+            dmax = dmax.max(dmin);
+            area += fit.iter().map(|f| f[0] * f[1]).fold(f64::INFINITY, f64::min);
+            if fit.iter().all(|f| f[0] > w / 2.0 + EPS) {
+                wide += dmin;
+            }
+        }
+        ceil_depth(dmax.max(wide).max(area / w))
+    };
+    let mut cands: Vec<Cand> = widths
+        .iter()
+        .map(|&w| Cand {
+            w,
+            dl: initial_depth(w),
+            solved: false,
+            tries: 0,
+            given_up: false,
+        })
+        .filter(|c| c.dl.is_finite())
+        .collect();
 
+    // Every object's footprints closed under swapping x and y: a placement transposes.
+    let transposable = fps.iter().all(|o| {
+        o.iter().all(|(f, _, _)| {
+            o.iter()
+                .any(|(g, _, _)| (g[0] - f[1]).abs() <= EPS && (g[1] - f[0]).abs() <= EPS)
+        })
+    });
+    // Largest depth strictly below `d`.
+    let below = |d: f64| -> f64 {
+        let i = depths.partition_point(|&t| t < d - DEPTH_TOL);
+        if i == 0 {
+            0.0
+        } else {
+            depths[i - 1]
+        }
+    };
+    for k in 0..cands.len() {
+        propagate(&mut cands, k, transposable, &above, &below);
+    }
     let mut best = compact(&warm.placement);
     let mut best_area = best.occupied_area();
-    // What is proven for each candidate: its lower bound on the area of placements of that exact width.
-    let mut proven: Vec<f64> = cands.iter().map(|c| c.1).collect();
     let mut milps = 0u64;
     let mut nodes = warm.nodes;
     // Area-optimal candidates found (their solutions), for the contact stage.
     let mut solutions: Vec<Placement> = vec![best.clone()];
-    let mut stopped = false;
-    for (k, &(w, lb)) in cands.iter().enumerate() {
-        if lb >= best_area - 1e-12 {
-            break;
-        }
-        if left(settings) <= 0.0 || stop.should_stop() {
-            stopped = true;
-            break;
-        }
-        let d_cut = (best_area / w + 1e-9).min(cd);
-        let Some((solved, sol, form)) = depth_milp(inst, &fps, w, d_cut, &best, left(settings), settings.seed)? else {
-            proven[k] = f64::INFINITY;
-            continue;
+    let base_cap = (settings.time_limit * CAP_SHARE).max(1.0);
+    loop {
+        // Candidates that may still hold a smaller area (first), then those whose bound equals
+        // the incumbent: they may reach it, and the contact stage needs every such extent.
+        let key = |c: &Cand| {
+            let tie = c.w * c.dl >= best_area - AREA_TOL;
+            (tie, c.tries, c.w * c.dl, c.w)
         };
-        milps += 1;
-        nodes += solved.nodes;
-        if std::env::var_os("PUSHPACK_DEBUG").is_some() {
-            eprintln!(
-                "milp[{form}] w={w:.4} lb={lb:.6} cut={d_cut:.4}: {:?} obj {:.5} dual {:.5} nodes {} t={:.2}",
-                solved.status,
-                solved.objective,
-                solved.dual_bound,
-                solved.nodes,
-                start.elapsed().as_secs_f64()
-            );
+        let next = cands
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| !c.solved && !c.given_up && c.w * c.dl <= best_area + AREA_TOL)
+            .filter(|(_, c)| settings.contact_stage || c.w * c.dl < best_area - AREA_TOL)
+            .min_by(|a, b| {
+                let (ka, kb) = (key(a.1), key(b.1));
+                ka.0.cmp(&kb.0)
+                    .then(ka.1.cmp(&kb.1))
+                    .then(ka.2.total_cmp(&kb.2))
+                    .then(ka.3.total_cmp(&kb.3))
+            })
+            .map(|(k, _)| k);
+        let Some(k) = next else { break };
+        if left(settings) <= 0.0 || stop.should_stop() {
+            break;
         }
-        match solved.status {
-            HighsModelStatus::Optimal => {
-                let p = sol.expect("optimal has a solution");
-                let area = p.occupied_area();
-                if p.violations(inst).iter().all(|v| v.contains("BL-stable")) {
-                    solutions.push(compact(&p));
-                }
-                let bound = if solved.dual_bound.is_finite() {
-                    solved.dual_bound.min(solved.objective)
+        let (w, tries) = (cands[k].w, cands[k].tries);
+        // Each visit is capped so one hard width cannot take the whole limit; a capped
+        // candidate keeps its dual bound and is revisited with four times the cap.
+        let cap = (base_cap * 4f64.powi(tries as i32)).min(left(settings));
+        let incumbent_cut = floor_depth(best_area / w + 1e-12).min(cd);
+        // Cut one depth step above the proven bound (or the incumbent's, if lower): the grid
+        // stays small, "optimal" closes the candidate, "infeasible" lifts its bound two steps.
+        let i = depths.partition_point(|&t| t < cands[k].dl - DEPTH_TOL);
+        let d_cut = depths.get(i + CUT_WINDOW).copied().unwrap_or(cd).min(incumbent_cut);
+        let t_visit = start.elapsed().as_secs_f64();
+        let res = depth_milp(inst, &fps, w, d_cut, &best, cap, settings.seed, abs_gap)?;
+        let dl_before = cands[k].dl;
+        match res {
+            None => {
+                // Some object has no position inside w × d_cut.
+                cands[k].dl = cands[k].dl.max(above(d_cut));
+            }
+            Some((solved, sol, form)) => {
+                milps += 1;
+                nodes += solved.nodes;
+                let dual = if solved.dual_bound.is_finite() {
+                    ceil_depth(solved.dual_bound)
                 } else {
-                    solved.objective
+                    0.0
                 };
-                proven[k] = w * bound;
-                if p.violations(inst).iter().all(|v| v.contains("BL-stable")) && area < best_area - 1e-12 {
-                    best = compact(&p);
-                    best_area = best.occupied_area();
+                if std::env::var_os("PUSHPACK_DEBUG").is_some() {
+                    eprintln!(
+                        "milp[{form}] w={w:.4} try {tries} cap {cap:.1}s bound {:.6} cut={d_cut:.4}: {:?} obj {:.5} dual {:.5} (rounded {dual:.4}) nodes {} {:.2}s t={:.2}",
+                        w * dl_before,
+                        solved.status,
+                        solved.objective,
+                        solved.dual_bound,
+                        solved.nodes,
+                        start.elapsed().as_secs_f64() - t_visit,
+                        start.elapsed().as_secs_f64()
+                    );
                 }
-            }
-            HighsModelStatus::Infeasible | HighsModelStatus::UnboundedOrInfeasible => {
-                proven[k] = best_area;
-            }
-            _ => {
-                // Stopped early: keep its solution if better, and its dual bound.
-                if let Some(p) = sol {
-                    if p.violations(inst).iter().all(|v| v.contains("BL-stable"))
-                        && p.occupied_area() < best_area - 1e-12
-                    {
-                        best = compact(&p);
-                        best_area = best.occupied_area();
+                let valid = |p: &Placement| p.violations(inst).iter().all(|v| v.contains("BL-stable"));
+                if let Some(p) = sol.as_ref().filter(|p| valid(p)) {
+                    let q = compact(p);
+                    let area = q.occupied_area();
+                    if area < best_area - AREA_TOL {
+                        best = q.clone();
+                        best_area = area;
+                    }
+                    if area <= best_area + AREA_TOL {
+                        solutions.push(q);
                     }
                 }
-                if solved.dual_bound.is_finite() {
-                    proven[k] = proven[k].max(w * solved.dual_bound);
+                match solved.status {
+                    HighsModelStatus::Optimal => {
+                        cands[k].dl = cands[k].dl.max(dual);
+                        if dual >= solved.objective - DEPTH_TOL {
+                            cands[k].solved = true;
+                        } else {
+                            // HiGHS stopped within its gap but the rounded bound does not close
+                            // it (numerical trouble): keep the bound, never claim the candidate.
+                            cands[k].given_up = true;
+                        }
+                    }
+                    HighsModelStatus::Infeasible | HighsModelStatus::UnboundedOrInfeasible => {
+                        cands[k].dl = cands[k].dl.max(above(d_cut));
+                    }
+                    _ => {
+                        cands[k].dl = cands[k].dl.max(dual);
+                        if sol.as_ref().is_some_and(valid) && solved.objective <= cands[k].dl + DEPTH_TOL {
+                            // Stopped, but its solution already meets the proven bound.
+                            cands[k].solved = true;
+                        } else {
+                            cands[k].tries += 1;
+                        }
+                    }
                 }
-                stopped = true;
-                break;
             }
         }
+        if !cands[k].solved && cands[k].tries == tries && cands[k].dl <= dl_before {
+            // No progress (only at the container's depth limit): never revisit in a loop.
+            cands[k].given_up = true;
+        }
+        propagate(&mut cands, k, transposable, &above, &below);
     }
-    let lower_bound = proven
+    // What is proven: every candidate not solved contributes its bound w · D_lower(w); solved
+    // candidates are no smaller than the incumbent.
+    let lower_bound = cands
         .iter()
-        .cloned()
+        .filter(|c| !c.solved)
+        .map(|c| c.w * c.dl)
         .fold(best_area, f64::min)
         .max(sum_min_area.min(best_area));
-    let area_optimal = !stopped && lower_bound >= best_area - 1e-9;
+    let area_optimal = lower_bound >= best_area - AREA_TOL;
+    // Every extent reaching the optimal area is known only when no candidate tied with it is open.
+    let ties_closed = !cands.iter().any(|c| !c.solved && c.w * c.dl <= best_area + AREA_TOL);
     let mut contact_optimal = false;
     if settings.contact_stage && left(settings) > 0.0 && !stop.should_stop() {
         // Every distinct extent pair reaching the optimal area gets its own contact stage.
         let mut extents: Vec<(f64, f64)> = Vec::new();
         for p in &solutions {
             let e = p.extent();
-            if e.0 * e.1 <= best_area + 1e-12
+            if e.0 * e.1 <= best_area + AREA_TOL
                 && !extents
                     .iter()
                     .any(|f| (f.0 - e.0).abs() <= 1e-9 && (f.1 - e.1).abs() <= 1e-9)
@@ -826,7 +991,7 @@ pub fn solve(
                 extents.push(e);
             }
         }
-        let mut all_optimal = area_optimal;
+        let mut all_optimal = area_optimal && ties_closed;
         let mut best_contact = best.contact_length(inst);
         for e in extents {
             if left(settings) <= 0.0 {
@@ -837,7 +1002,7 @@ pub fn solve(
                 let f = p.extent();
                 (f.0 - e.0).abs() <= 1e-9 && (f.1 - e.1).abs() <= 1e-9
             });
-            let res = if GridModel::size(inst, &fps, e.0, e.1) <= GRID_MAX_NNZ {
+            let res = if GridModel::size(inst, &fps, e.0, e.1) <= grid_max_nnz() {
                 grid_contact_stage(inst, &fps, e, warm_p, left(settings), settings.seed)?
             } else if let Some(wp) = warm_p {
                 contact_stage(inst, &fps, wp, left(settings), settings.seed)?
@@ -984,7 +1149,7 @@ fn grid_contact_stage(
     for c in m.constraints.iter().cloned() {
         problem = problem.with(c);
     }
-    let solved = run_highs(problem, init.as_deref(), time_left, seed)?;
+    let solved = run_highs(problem, init.as_deref(), time_left, seed, 1e-9, false)?;
     let Some(c) = solved.cols.as_deref() else {
         return Ok(None);
     };
@@ -1146,7 +1311,7 @@ fn contact_stage(
     for c in m.constraints.iter().cloned() {
         problem = problem.with(c);
     }
-    let solved = run_highs(problem, Some(&init), time_left, seed)?;
+    let solved = run_highs(problem, Some(&init), time_left, seed, 1e-9, true)?;
     let Some(c) = solved.cols.as_deref() else {
         return Ok(None);
     };
