@@ -19,7 +19,7 @@ use pushpack::instance::Instance;
 use pushpack::placement::{bl, Placement};
 use pushpack::plan::{build_plan, PlacementSolver, PlanOptions, Sequencer};
 use pushpack::robot::keypoints::{action_keypoints, path_length, pick_arm};
-use pushpack::robot::motion::{action_reach, Reach};
+use pushpack::robot::motion::{action_reach_memo, IkMemo, Reach};
 use pushpack::robot::Arm;
 use pushpack::sequence::astar::{self, AstarSettings};
 use pushpack::sequence::{SearchStatus, SequenceOptions};
@@ -52,6 +52,7 @@ struct Enumerate<'a> {
     home: [Vector3<f64>; 2],
     memo: HashMap<Vec<i64>, Option<Best>>,
     reach: std::cell::RefCell<HashMap<String, Option<Reach>>>,
+    ik: std::cell::RefCell<IkMemo>,
 }
 
 impl Enumerate<'_> {
@@ -61,7 +62,7 @@ impl Enumerate<'_> {
         let k = format!("{a:?}");
         let r = match self.reach.borrow().get(&k) {
             Some(v) => v.clone(),
-            None => action_reach(self.inst, self.placement, a),
+            None => action_reach_memo(self.inst, self.placement, a, &self.ik, false),
         };
         self.reach.borrow_mut().insert(k, r.clone());
         r.is_some_and(|r| r.free_when(|j| layout.state[j] == ObjState::Table))
@@ -212,6 +213,7 @@ fn exhaustive(inst: &Instance, placement: &Placement, no_direct: bool, no_multi:
         home,
         memo: HashMap::new(),
         reach: Default::default(),
+        ik: Default::default(),
     };
     let (mx, my) = placement.extent();
     e.best(&Layout::new(inst, placement), home, [false; 2], [mx, my])
