@@ -723,7 +723,7 @@ impl<'a> Search<'a> {
         if Self::all_done(root) {
             return Some((self.goal_of(root).g, Vec::new()));
         }
-        if *budget == 0 {
+        if *budget == 0 || self.stop.is_some_and(|t| t.should_stop()) {
             return None;
         }
         *budget -= 1;
@@ -868,12 +868,12 @@ pub fn solve(
 
     // A first plan from a greedy dive, so that a stopped search still returns one.
     let mut budget = settings.dive_nodes;
+    s.stop = Some(stop);
     let mut incumbent = s.dive(&root, &mut budget);
     let t_dive = start.elapsed().as_secs_f64();
 
     // Phase 1: the minimum number of actions, by iterative deepening over object states.
     // Abandoned (the bound stays heuristic) if the time limit strikes.
-    s.stop = Some(stop);
     let mut lstar = first_bound.len;
     while lstar <= 4 * inst.n() {
         let t = s.fits(&root.state, lstar);
@@ -886,7 +886,6 @@ pub fn solve(
         }
         lstar += 1;
     }
-    s.stop = None;
     let t_phase1 = start.elapsed().as_secs_f64() - t_dive;
     root.f = s.f_of(&root, true);
     root.exact = true;
@@ -923,6 +922,12 @@ pub fn solve(
                 // Lazy evaluation of the phase-1 bound: tighten on the first pop, and go back
                 // into the queue if it rose (still a lower bound, so the order stays admissible).
                 let f2 = s.f_of(&n, true);
+                if s.stopped.get() {
+                    // The time limit struck inside the phase-1 search: f2 is not a bound.
+                    status = SearchStatus::TimeLimit;
+                    open.push(Open { f, seq: 0, node });
+                    break;
+                }
                 graph[node].f = f2;
                 graph[node].exact = true;
                 if f2.len > l {
