@@ -1046,10 +1046,24 @@ pub fn solve(
     } else if status == SearchStatus::Complete {
         cost // the incumbent was proven optimal: nothing open could beat it
     } else {
-        open.iter()
-            .map(|o| o.f)
-            .min_by(|a, b| a.cmp_lex(b))
-            .unwrap_or(root_bound)
+        // A bound per component on the lexicographic optimum: it is the incumbent, or better
+        // than it and then below some open node (nodes cut by the incumbent or by L* cannot
+        // lead to it). The lexicographically smallest open f would not do: its area can exceed
+        // the optimum's when its action count is lower.
+        let fs: Vec<Cost> = if open.is_empty() {
+            vec![root_bound]
+        } else {
+            open.iter().map(|o| o.f).collect()
+        };
+        let mut b = fs.iter().fold(cost, |b, f| Cost {
+            len: b.len.min(f.len),
+            area: b.area.min(f.area),
+            travel: b.travel.min(f.travel),
+        });
+        if let Some(l) = s.lstar.get() {
+            b.len = b.len.max(l); // proven by phase 1
+        }
+        b
     };
     if let Some(p) = &s.prof {
         let p = p.borrow();
