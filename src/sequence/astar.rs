@@ -121,6 +121,8 @@ struct Node {
     g: Cost,
     f: Cost,
     goal: bool,
+    /// `f` includes the phase-1 remaining-action count (see [`Search::f_of`]).
+    exact: bool,
 }
 
 struct Open {
@@ -176,35 +178,104 @@ struct Search<'a> {
     /// Reachability of actions by the robot (inverse kinematics), memoised.
     reach: crate::robot::reach_cache::ReachCache<'a>,
     /// Feasible actions per object state.
-    succ_cache: RefCell<HashMap<Vec<i64>, Rc<Vec<(Action, Option<f64>)>>>>,
-    /// Remaining-actions memo per object state: (value, exact). Not exact = a lower bound.
-    len_memo: RefCell<HashMap<Vec<i64>, (usize, bool)>>,
+    succ_cache: RefCell<FxMap<Vec<u8>, Rc<Vec<(Action, Option<f64>)>>>>,
+    /// Remaining-actions memo per object state: (proven lower bound, length of a plan found).
+    len_memo: RefCell<FxMap<Vec<u8>, (usize, usize)>>,
     /// The proven minimum number of actions, once known.
     lstar: Cell<Option<usize>>,
     /// Time limit watched by phase 1, and whether it struck.
     stop: Option<&'a dyn Terminator>,
     stopped: Cell<bool>,
     calls: Cell<u64>,
+    prof: Option<RefCell<Prof>>,
 }
 
-fn obj_key(state: &[ObjState]) -> Vec<i64> {
+/// Time spent per part of the search, collected only when `PUSHPACK_PROFILE` is set (the clock
+/// reads would otherwise cost more than some of the parts they measure).
+#[derive(Default, Debug)]
+struct Prof {
+    check_s: f64,
+    check_n: u64,
+    reach_s: f64,
+    reach_n: u64,
+    /// Reachability queries slow enough to have run inverse kinematics (cache misses).
+    reach_miss: u64,
+    succ_s: f64,
+    succ_n: u64,
+    h_s: f64,
+    h_n: u64,
+    child_s: f64,
+    child_n: u64,
+}
+
+/// FxHash (the rustc hasher): the memo keys are short byte strings hashed millions of times,
+/// where std's SipHash costs more than the lookups it serves. Not DoS-resistant, which does
+/// not matter for keys the search makes itself.
+#[derive(Default, Clone, Copy)]
+struct FxHasher(u64);
+
+impl std::hash::Hasher for FxHasher {
+    fn finish(&self) -> u64 {
+        // A multiply only carries low input bits upward, so the low bits (the bucket index)
+        // would depend on the first few objects alone: finish with splitmix64's mixer.
+        mix64(self.0)
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        let mut chunks = bytes.chunks_exact(8);
+        for c in &mut chunks {
+            self.write_u64(u64::from_le_bytes(c.try_into().expect("8 bytes")));
+        }
+        for &b in chunks.remainder() {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, w: u64) {
+        self.0 = (self.0.rotate_left(5) ^ w).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+    fn write_usize(&mut self, w: usize) {
+        self.write_u64(w as u64);
+    }
+}
+
+/// splitmix64's finaliser: every output bit depends on every input bit.
+fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+type FxMap<K, V> = HashMap<K, V, std::hash::BuildHasherDefault<FxHasher>>;
+
+/// Compact key of the object states: one byte per object (table 0, done 1, released
+/// `2 + direction + 2·m` for offset `m·d`). Offsets only ever come from the search's own place
+/// modes, which are whole multiples of `d` (at most [`MAX_OFFSET_STEPS`]).
+fn obj_key(state: &[ObjState], d: f64) -> Vec<u8> {
     state
         .iter()
         .map(|s| match s {
             ObjState::Table => 0,
             ObjState::Done => 1,
-            ObjState::Released { push_dir, offset, .. } => 2 + (*push_dir as i64) + 2 * ((offset * 1e6).round() as i64),
+            ObjState::Released { push_dir, offset, .. } => {
+                let m = (offset / d).round() as usize;
+                debug_assert!((1..=MAX_OFFSET_STEPS).contains(&m));
+                (2 + *push_dir as usize + 2 * m) as u8
+            }
         })
         .collect()
 }
 
-fn key(n: &Node) -> Vec<i64> {
-    let mut k = obj_key(&n.state);
+/// Largest `max_offset_steps` the compact state key can represent.
+pub const MAX_OFFSET_STEPS: usize = 100;
+
+/// Key of a search node: object states, then each arm's TCP (rounded to a micrometre) and
+/// whether it has moved.
+fn key(n: &Node, d: f64) -> Vec<u8> {
+    let mut k = obj_key(&n.state, d);
     for (p, u) in n.pos.iter().zip(n.used) {
         for c in p.iter() {
-            k.push((c * 1e6).round() as i64);
+            k.extend_from_slice(&((c * 1e6).round() as i64).to_le_bytes());
         }
-        k.push(u as i64);
+        k.push(u as u8);
     }
     k
 }
@@ -263,13 +334,48 @@ impl<'a> Search<'a> {
             container_corners,
             push_vertical: 2.0 * (zt - (inst.container.floor_z + g.push_height)),
             reach: crate::robot::reach_cache::ReachCache::new(inst, placement),
-            succ_cache: RefCell::new(HashMap::new()),
-            len_memo: RefCell::new(HashMap::new()),
+            succ_cache: RefCell::new(FxMap::default()),
+            len_memo: RefCell::new(FxMap::default()),
             lstar: Cell::new(None),
             stop: None,
             stopped: Cell::new(false),
             calls: Cell::new(0),
+            prof: std::env::var_os("PUSHPACK_PROFILE").map(|_| RefCell::new(Prof::default())),
         }
+    }
+
+    /// Run `f`, adding its time to a profile slot when profiling.
+    fn timed<T>(&self, slot: fn(&mut Prof) -> (&mut f64, &mut u64), f: impl FnOnce() -> T) -> T {
+        match &self.prof {
+            None => f(),
+            Some(p) => {
+                let t = Instant::now();
+                let v = f();
+                let mut p = p.borrow_mut();
+                let (s, n) = slot(&mut p);
+                *s += t.elapsed().as_secs_f64();
+                *n += 1;
+                v
+            }
+        }
+    }
+
+    fn check(&self, layout: &Layout, a: &Action) -> Option<Option<f64>> {
+        self.timed(|p| (&mut p.check_s, &mut p.check_n), || layout.check(a).ok())
+    }
+
+    /// Reachability of an action by the robot in `state` (memoised in [`ReachCache`]; objects
+    /// still on the table may block a pick).
+    fn reachable(&self, a: &Action, state: &[ObjState]) -> bool {
+        let t = self.prof.as_ref().map(|_| Instant::now());
+        let v = self.timed(|p| (&mut p.reach_s, &mut p.reach_n), || self.reach.ok_when(a, state));
+        if let (Some(p), Some(t)) = (&self.prof, t) {
+            // A memo hit takes well under a microsecond, inverse kinematics milliseconds.
+            if t.elapsed().as_secs_f64() > 1e-4 {
+                p.borrow_mut().reach_miss += 1;
+            }
+        }
+        v
     }
 
     /// Distance from `p` to the container floor rectangle lifted to transfer height.
@@ -310,56 +416,61 @@ impl<'a> Search<'a> {
         l
     }
 
-    /// Admissible lower bounds on the remaining (actions, area, travel) from a node.
-    /// Remaining actions from an object state: exact when it is at most `budget`, else a lower
-    /// bound above `budget` (depth-first with a memo; Bellman over object states, since
-    /// feasibility does not depend on where the arms are).
-    fn togo(&self, state: &[ObjState], budget: usize) -> usize {
+    /// Whether the objects can all reach their targets from `state` in at most `budget` more
+    /// actions; `Some(n)` with the length `n ≤ budget` of a plan found, `None` when none fits.
+    ///
+    /// Depth-first with a memo over object states of proven facts `(lo, hi)`: no plan shorter
+    /// than `lo`, a plan of length `hi` exists. The memo is sound whatever the path to a state,
+    /// since feasibility does not depend on where the arms are (Bellman over object states).
+    /// It answers the question asked and no more: the search stops at the first plan that fits,
+    /// instead of looking for the shortest. That is all phase 1 needs (it deepens the budget
+    /// from below, so the first budget that fits is the minimum `L*`) and all the main search
+    /// needs (a node at depth `g` is on an `L*`-action plan iff `L* − g` fits, and then the
+    /// remaining count is exactly `L* − g`, since no plan is shorter than `L*`).
+    fn fits(&self, state: &[ObjState], budget: usize) -> Option<usize> {
         if state.iter().all(|s| *s == ObjState::Done) {
-            return 0;
+            return Some(0);
         }
         self.calls.set(self.calls.get() + 1);
         if self.calls.get() % 256 == 0 && self.stop.map(|t| t.should_stop()).unwrap_or(false) {
             self.stopped.set(true);
         }
         if self.stopped.get() {
-            return budget + 1; // not stored as exact: phase 1 is abandoned
+            return None; // not stored: phase 1 is abandoned
         }
-        let k = obj_key(state);
-        let known = self.len_memo.borrow().get(&k).copied();
-        let mut lb = match known {
-            Some((v, true)) => return v,
-            Some((v, false)) => v,
-            None => 0,
+        let k = obj_key(state, self.inst.gripper.min_offset);
+        let (lo, hi) = match self.len_memo.borrow().get(&k).copied() {
+            Some(v) => v,
+            None => {
+                let table = state.iter().filter(|s| **s == ObjState::Table).count();
+                (table + self.push_lower_bound(state).0, usize::MAX)
+            }
         };
-        if known.is_none() {
-            let table = state.iter().filter(|s| **s == ObjState::Table).count();
-            lb = table + self.push_lower_bound(state).0;
+        if hi <= budget {
+            return Some(hi);
         }
-        if lb > budget {
-            self.len_memo.borrow_mut().insert(k, (lb, false));
-            return lb;
+        if lo > budget {
+            self.len_memo.borrow_mut().insert(k, (lo, hi));
+            return None;
         }
-        let mut best = usize::MAX;
         for (a, _) in self.successors(state).iter() {
             let mut l = self.layout(state);
             l.apply(a);
-            let v = self.togo(&l.state, budget - 1);
-            best = best.min(v.saturating_add(1));
-            if best <= lb {
-                break; // meets the lower bound: nothing can be shorter
+            // Reachability (tens of ms of inverse kinematics the first time) is asked only of
+            // an action that completes a plan: the children of a proof that the budget is too
+            // small never are asked. The child's memo entry is a fact about its state either way.
+            if let Some(v) = self.fits(&l.state, budget - 1) {
+                if self.reachable(a, state) {
+                    self.len_memo.borrow_mut().insert(k, (lo, v + 1));
+                    return Some(v + 1);
+                }
             }
         }
         if self.stopped.get() {
-            return budget + 1;
+            return None;
         }
-        let entry = if best <= budget {
-            (best, true)
-        } else {
-            (lb.max(budget + 1), false)
-        };
-        self.len_memo.borrow_mut().insert(k, entry);
-        entry.0
+        self.len_memo.borrow_mut().insert(k, (lo.max(budget + 1), hi));
+        None
     }
 
     /// Lower bound on the pushes still needed, and the objects that need one.
@@ -392,15 +503,22 @@ impl<'a> Search<'a> {
         (independent.len(), needs_push)
     }
 
-    fn h(&self, n: &Node) -> Cost {
+    /// With `exact`, and once the minimum number of actions is proven, the remaining pushes come
+    /// from phase 1's memoised depth-first search; without, from the cheap push bound alone.
+    fn h(&self, n: &Node, exact: bool) -> Cost {
         let inst = self.inst;
         let table: Vec<usize> = (0..inst.n()).filter(|&i| n.state[i] == ObjState::Table).collect();
         // Pushes still needed: exact (given the proven minimum) once that is known, else a bound
         // from objects that need a push and cannot share one.
         let (mut pushes, needs_push) = self.push_lower_bound(&n.state);
-        if let Some(l) = self.lstar.get() {
+        if let Some(l) = self.lstar.get().filter(|_| exact) {
             let budget = l.saturating_sub(n.g.len);
-            let t = self.togo(&n.state, budget);
+            // Remaining actions: exactly `budget` when it fits (no plan beats L*), else more.
+            let t = if self.fits(&n.state, budget).is_some() {
+                budget
+            } else {
+                budget + 1
+            };
             pushes = pushes.max(t.saturating_sub(table.len()));
         }
         let any_released = n.state.iter().any(|s| matches!(s, ObjState::Released { .. }));
@@ -448,11 +566,15 @@ impl<'a> Search<'a> {
         }
     }
 
-    fn f_of(&self, n: &Node) -> Cost {
+    /// Lower bound on the cost of every completion of `n`. Children get the cheap bound
+    /// (`exact = false`) when generated and the phase-1 bound only when popped: most children
+    /// are never popped (their cheap bound already reaches the incumbent, or the search ends
+    /// first), and phase 1 on a state costs a depth-first search.
+    fn f_of(&self, n: &Node, exact: bool) -> Cost {
         if n.goal {
             return n.g;
         }
-        let h = self.h(n);
+        let h = self.timed(|p| (&mut p.h_s, &mut p.h_n), || self.h(n, exact));
         Cost {
             len: n.g.len + h.len,
             area: n.g.area.max(h.area),
@@ -460,13 +582,14 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// Feasible actions in a state (cached: they depend on object states only).
+    /// Actions the layout allows in a state, reachable or not (cached: they depend on object
+    /// states only).
     fn successors(&self, state: &[ObjState]) -> Rc<Vec<(Action, Option<f64>)>> {
-        let k = obj_key(state);
+        let k = obj_key(state, self.inst.gripper.min_offset);
         if let Some(v) = self.succ_cache.borrow().get(&k) {
             return v.clone();
         }
-        let v = Rc::new(self.successors_uncached(state));
+        let v = Rc::new(self.timed(|p| (&mut p.succ_s, &mut p.succ_n), || self.successors_uncached(state)));
         self.succ_cache.borrow_mut().insert(k, v.clone());
         v
     }
@@ -499,17 +622,18 @@ impl<'a> Search<'a> {
                     PlaceMode::Indirect { push_dir, .. } => [push_dir.axis(), push_dir.axis().other()],
                     PlaceMode::Direct => [Axis2::X, Axis2::Y],
                 };
-                // The grasp axis does not change cost: take the first feasible one.
-                if let Some((a, m)) = axes.into_iter().find_map(|ax| {
+                // The grasp axis changes neither state nor cost: keep every axis the layout
+                // allows, in order of preference; [`Search::usable`] takes the first reachable.
+                for ax in axes {
                     let a = Action::Place {
                         object: i,
                         mode,
                         grasp_axis: ax,
                         arm,
                     };
-                    layout.check(&a).ok().filter(|_| self.reach.ok_in(&a, &layout)).map(|m| (a, m))
-                }) {
-                    out.push((a, m));
+                    if let Some(m) = self.check(&layout, &a) {
+                        out.push((a, m));
+                    }
                 }
             }
         }
@@ -534,10 +658,8 @@ impl<'a> Search<'a> {
                     distance: offset,
                     arm: pick_arm(inst, back),
                 };
-                if let Ok(m) = layout.check(&a) {
-                    if self.reach.ok(&a) {
-                        out.push((a, m));
-                    }
+                if let Some(m) = self.check(&layout, &a) {
+                    out.push((a, m));
                 }
             }
         }
@@ -571,8 +693,9 @@ impl<'a> Search<'a> {
             g,
             f: g,
             goal: false,
+            exact: false,
         };
-        c.f = self.f_of(&c);
+        c.f = self.f_of(&c, false);
         c
     }
 
@@ -601,7 +724,7 @@ impl<'a> Search<'a> {
         if Self::all_done(root) {
             return Some((self.goal_of(root).g, Vec::new()));
         }
-        if *budget == 0 {
+        if *budget == 0 || self.stop.is_some_and(|t| t.should_stop()) {
             return None;
         }
         *budget -= 1;
@@ -610,8 +733,24 @@ impl<'a> Search<'a> {
             .iter()
             .map(|(a, m)| (self.child(root, a), a.clone(), *m))
             .collect();
+        // Stable sort: the grasp axes of one placement stay in order of preference.
         kids.sort_by(|x, y| x.0.f.cmp_lex(&y.0.f));
+        // Placements (object, mode) already dived into: another grasp axis leads to the same
+        // state at the same cost.
+        let mut tried: Vec<(usize, PlaceMode)> = Vec::new();
         for (c, a, m) in kids {
+            if let Action::Place { object, mode, .. } = &a {
+                if tried.contains(&(*object, *mode)) {
+                    continue;
+                }
+            }
+            // Reachability is asked only of the child about to be entered.
+            if !self.reachable(&a, &root.state) {
+                continue;
+            }
+            if let Action::Place { object, mode, .. } = &a {
+                tried.push((*object, *mode));
+            }
             if let Some((cost, mut path)) = self.dive(&c, budget) {
                 path.insert(0, (a, m));
                 return Some((cost, path));
@@ -677,6 +816,18 @@ pub fn lines(placement: &Placement, members: &[usize], dir: PushDir, max_len: us
     out
 }
 
+/// The actions from the root to `node` (every node but the root has one incoming edge).
+fn path_to(graph: &DiGraph<Node, (Action, Option<f64>)>, node: NodeIndex) -> Vec<(Action, Option<f64>)> {
+    let mut path = Vec::new();
+    let mut cur = node;
+    while let Some(e) = graph.edges_directed(cur, Direction::Incoming).next() {
+        path.push(e.weight().clone());
+        cur = e.source();
+    }
+    path.reverse();
+    path
+}
+
 /// Run the A* search.
 pub fn solve(
     inst: &Instance,
@@ -686,6 +837,13 @@ pub fn solve(
     stop: &dyn Terminator,
 ) -> Result<SequenceResult> {
     let start = Instant::now();
+    if settings.max_offset_steps == 0 || settings.max_offset_steps > MAX_OFFSET_STEPS {
+        return Err(Error::input(
+            "<settings>",
+            "max_offset_steps",
+            format!("must be 1..={MAX_OFFSET_STEPS}"),
+        ));
+    }
     let mut s = Search::new(inst, placement, *opts, *settings);
     let (mx, my) = placement.extent();
     let mut root = Node {
@@ -704,32 +862,34 @@ pub fn solve(
             travel: 0.0,
         },
         goal: false,
+        exact: false,
     };
-    root.f = s.f_of(&root);
+    root.f = s.f_of(&root, false);
     let first_bound = root.f;
 
     // A first plan from a greedy dive, so that a stopped search still returns one.
     let mut budget = settings.dive_nodes;
+    s.stop = Some(stop);
     let mut incumbent = s.dive(&root, &mut budget);
+    let t_dive = start.elapsed().as_secs_f64();
 
     // Phase 1: the minimum number of actions, by iterative deepening over object states.
     // Abandoned (the bound stays heuristic) if the time limit strikes.
-    s.stop = Some(stop);
     let mut lstar = first_bound.len;
     while lstar <= 4 * inst.n() {
-        let t = s.togo(&root.state, lstar);
+        let t = s.fits(&root.state, lstar);
         if s.stopped.get() {
-            s.len_memo.borrow_mut().retain(|_, v| v.1);
-            break;
+            break; // facts stored before the stop stay true
         }
-        if t <= lstar {
+        if t.is_some() {
             s.lstar.set(Some(lstar));
             break;
         }
         lstar += 1;
     }
-    s.stop = None;
-    root.f = s.f_of(&root);
+    let t_phase1 = start.elapsed().as_secs_f64() - t_dive;
+    root.f = s.f_of(&root, true);
+    root.exact = true;
     let root_bound = root.f;
 
     let mut graph: DiGraph<Node, (Action, Option<f64>)> = DiGraph::new();
@@ -741,7 +901,7 @@ pub fn solve(
         seq,
         node: r,
     });
-    let mut labels: HashMap<Vec<i64>, Vec<Label>> = HashMap::new();
+    let mut labels: FxMap<Vec<u8>, Vec<Label>> = FxMap::default();
     let mut nodes = 0u64;
     let mut status = SearchStatus::Complete;
     let mut goal: Option<NodeIndex> = None;
@@ -758,19 +918,49 @@ pub fn solve(
             goal = Some(node);
             break;
         }
+        if !n.exact {
+            if let Some(l) = s.lstar.get() {
+                // Lazy evaluation of the phase-1 bound: tighten on the first pop, and go back
+                // into the queue if it rose (still a lower bound, so the order stays admissible).
+                let f2 = s.f_of(&n, true);
+                if s.stopped.get() {
+                    // The time limit struck inside the phase-1 search: f2 is not a bound.
+                    status = SearchStatus::TimeLimit;
+                    open.push(Open { f, seq: 0, node });
+                    break;
+                }
+                graph[node].f = f2;
+                graph[node].exact = true;
+                if f2.len > l {
+                    continue; // cannot finish in the proven minimum number of actions
+                }
+                if f2.cmp_lex(&f) == Ordering::Greater {
+                    seq += 1;
+                    open.push(Open { f: f2, seq, node });
+                    continue;
+                }
+            }
+        }
         nodes += 1;
         if nodes >= opts.max_nodes {
             status = SearchStatus::NodeLimit;
             open.push(Open { f, seq: 0, node });
             break;
         }
-        if nodes % 256 == 0 && stop.should_stop() {
+        // Every node: with twenty objects one expansion can take a second of inverse
+        // kinematics, so checking every 256 nodes overran a 10 s limit by 12 s.
+        if stop.should_stop() {
             status = SearchStatus::TimeLimit;
             open.push(Open { f, seq: 0, node });
             break;
         }
         if Search::all_done(&n) {
             let gnode = s.goal_of(&n);
+            // A complete plan: the new incumbent if it is better, so that a search stopped by
+            // its limit returns it and pruning tightens at once.
+            if incumbent.as_ref().is_none_or(|(c, _)| gnode.g.cmp_lex(c) == Ordering::Less) {
+                incumbent = Some((gnode.g, path_to(&graph, node)));
+            }
             let gi = graph.add_node(gnode.clone());
             graph.add_edge(
                 node,
@@ -794,8 +984,12 @@ pub fn solve(
             });
             continue;
         }
+        // Every action the layout allows; reachability is asked last, of the children that
+        // survive the bounds and the dominance test. Grasp axes of one placement come in order
+        // of preference and give equal labels, so the first reachable one is kept and the
+        // others are dominated.
         for (a, m) in s.successors(&n.state).iter().cloned() {
-            let c = s.child(&n, &a);
+            let c = s.timed(|p| (&mut p.child_s, &mut p.child_n), || s.child(&n, &a));
             if s.lstar.get().map(|l| c.f.len > l).unwrap_or(false) {
                 continue; // cannot finish in the proven minimum number of actions
             }
@@ -804,10 +998,13 @@ pub fn solve(
                     continue;
                 }
             }
-            let k = key(&c);
+            let k = key(&c, inst.gripper.min_offset);
             let lab = Label::of(&c);
             let set = labels.entry(k).or_default();
             if set.iter().any(|l| l.dominates(&lab)) {
+                continue;
+            }
+            if !s.reachable(&a, &n.state) {
                 continue;
             }
             set.retain(|l| !lab.dominates(l));
@@ -852,11 +1049,48 @@ pub fn solve(
     } else if status == SearchStatus::Complete {
         cost // the incumbent was proven optimal: nothing open could beat it
     } else {
-        open.iter()
-            .map(|o| o.f)
-            .min_by(|a, b| a.cmp_lex(b))
-            .unwrap_or(root_bound)
+        // A bound per component on the lexicographic optimum: it is the incumbent, or better
+        // than it and then below some open node (nodes cut by the incumbent or by L* cannot
+        // lead to it). The lexicographically smallest open f would not do: its area can exceed
+        // the optimum's when its action count is lower.
+        let fs: Vec<Cost> = if open.is_empty() {
+            vec![root_bound]
+        } else {
+            open.iter().map(|o| o.f).collect()
+        };
+        let mut b = fs.iter().fold(cost, |b, f| Cost {
+            len: b.len.min(f.len),
+            area: b.area.min(f.area),
+            travel: b.travel.min(f.travel),
+        });
+        if let Some(l) = s.lstar.get() {
+            b.len = b.len.max(l); // proven by phase 1
+        }
+        b
     };
+    if let Some(p) = &s.prof {
+        let p = p.borrow();
+        eprintln!(
+            "astar profile: total {:.3}s = dive {t_dive:.3}s + phase-1 {t_phase1:.3}s + search {:.3}s; \
+             successors {:.3}s/{} (check {:.3}s/{}, reach {:.3}s/{} with {} IK), h {:.3}s/{}, child {:.3}s/{}, \
+             memo {} states, succ cache {}",
+            start.elapsed().as_secs_f64(),
+            start.elapsed().as_secs_f64() - t_dive - t_phase1,
+            p.succ_s,
+            p.succ_n,
+            p.check_s,
+            p.check_n,
+            p.reach_s,
+            p.reach_n,
+            p.reach_miss,
+            p.h_s,
+            p.h_n,
+            p.child_s,
+            p.child_n,
+            s.len_memo.borrow().len(),
+            s.succ_cache.borrow().len(),
+        );
+    }
     if std::env::var_os("PUSHPACK_DEBUG").is_some() {
         eprintln!(
             "astar: root bound {root_bound:?}, result {cost:?}, incumbent from dive {:?}, {nodes} nodes",

@@ -115,6 +115,7 @@ pub struct SequenceResult {
     pub assignments: u64,
     /// Wall-clock seconds.
     pub time_s: f64,
-    /// Proven lexicographic lower bound (A*); equal to the plan's cost when optimal.
+    /// Proven lower bound on each component of the optimal cost (A*), hence also a
+    /// lexicographic one; equal to the plan's cost when optimal.
     pub bound: Option<astar::Cost>,
 }
