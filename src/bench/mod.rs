@@ -312,7 +312,9 @@ pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
         .build()
         .map_err(|e| Error::input("<command line>", "--jobs", format!("cannot start threads: {e}")))?;
     pool.install(|| {
-        pending.par_iter().for_each(|job| {
+        // par_bridge hands out runs in list order (par_iter would split the list in halves), so
+        // an interrupted batch has finished the first sets rather than parts of every set.
+        pending.iter().par_bridge().for_each(|job| {
             let inst = &insts[&job.path];
             let row = run_child(&cfg.exe, job, inst, cfg.time_limit, cfg.hard_limit);
             let (nf, nt) = {
