@@ -71,6 +71,16 @@ impl Job {
 /// Instance files among `paths`: files as given, directories searched one level deep for
 /// `*.toml` and `*.json`, sorted by name. Errors name a path that is missing or holds none.
 pub fn expand_instances(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut out = collect_files(paths, &["toml", "json"], "instance file (*.toml or *.json)")?;
+    let mut seen = HashSet::new();
+    out.retain(|p| seen.insert(p.clone()));
+    Ok(out)
+}
+
+/// Files among `paths`: files as given, directories searched one level deep for files ending in
+/// one of `exts` (sorted by name). A missing path, or a directory without such a file (`what`),
+/// is an input error naming it.
+pub fn collect_files(paths: &[PathBuf], exts: &[&str], what: &str) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
@@ -80,15 +90,11 @@ pub fn expand_instances(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
                     source: e,
                 })?
                 .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "toml" || x == "json"))
+                .filter(|f| f.is_file() && f.extension().is_some_and(|x| exts.iter().any(|e| x == *e)))
                 .collect();
             found.sort();
             if found.is_empty() {
-                return Err(Error::input(
-                    p.display().to_string(),
-                    "<directory>",
-                    "holds no instance file (*.toml or *.json)",
-                ));
+                return Err(Error::input(p.display().to_string(), "<directory>", format!("holds no {what}")));
             }
             out.extend(found);
         } else if p.is_file() {
@@ -97,8 +103,6 @@ pub fn expand_instances(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
             return Err(Error::input(p.display().to_string(), "<path>", "no such file or directory"));
         }
     }
-    let mut seen = HashSet::new();
-    out.retain(|p| seen.insert(p.clone()));
     Ok(out)
 }
 

@@ -287,30 +287,7 @@ pub fn read_jsonl(path: &Path) -> Result<(Vec<ResultRow>, u64)> {
 
 /// Every `*.jsonl` file among `paths` (files as given, directories searched one level deep).
 pub fn result_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for p in paths {
-        if p.is_dir() {
-            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| io_err(p, e))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "jsonl"))
-                .collect();
-            found.sort();
-            if found.is_empty() {
-                return Err(Error::input(
-                    p.display().to_string(),
-                    "<directory>",
-                    "holds no *.jsonl result file",
-                ));
-            }
-            out.extend(found);
-        } else if p.is_file() {
-            out.push(p.clone());
-        } else {
-            return Err(Error::input(p.display().to_string(), "<path>", "no such file or directory"));
-        }
-    }
-    Ok(out)
+    super::collect_files(paths, &["jsonl"], "*.jsonl result file")
 }
 
 /// Appends rows to a JSON Lines and a CSV file, flushing after each row.
@@ -373,51 +350,13 @@ impl RowWriter {
 mod tests {
     use super::*;
 
-    pub(crate) fn sample(instance: &str, planner: &str) -> ResultRow {
-        ResultRow {
-            instance: instance.into(),
-            instance_digest: "d".into(),
-            set: "s".into(),
-            name: "n".into(),
-            objects: 3,
-            kinds: 2,
-            planner: planner.into(),
-            seed: 0,
-            time_limit_s: 10.0,
-            status: RunStatus::Failed,
-            error: Some("boom, \"quoted\"".into()),
-            placement_status: None,
-            occupied_area: None,
-            placement_bound: None,
-            placement_gap: None,
-            contact_length: None,
-            seq_len: None,
-            n_place_direct: None,
-            n_place_indirect: None,
-            n_push: None,
-            n_multi_push: None,
-            swept_area: None,
-            travel: None,
-            min_push_margin: None,
-            sequence_status: None,
-            sequence_bound_len: None,
-            sequence_bound_area: None,
-            sequence_bound_travel: None,
-            sequence_gap: None,
-            placement_nodes: None,
-            sequence_nodes: None,
-            sequence_assignments: None,
-            placement_time_s: None,
-            sequence_time_s: None,
-            plan_time_s: None,
-            verify_time_s: None,
-            wall_time_s: 1.5,
-            verify: None,
-            violations: None,
-            robot_issues: None,
-            tool_version: "0".into(),
-            git_commit: "c".into(),
-        }
+    fn sample(instance: &str, planner: &str) -> ResultRow {
+        let inst = crate::instance::Instance::load(concat!(env!("CARGO_MANIFEST_DIR"), "/instances/examples/two_boxes.toml"))
+            .expect("bundled example");
+        let spec = crate::bench::spec::PlannerSpec::parse(planner, "planner").expect("valid spec");
+        let mut r = crate::bench::run::base_row(instance, &inst, &spec, 10.0);
+        r.error = Some("boom, \"quoted\"".into());
+        r
     }
 
     #[test]
@@ -434,6 +373,7 @@ mod tests {
     #[test]
     fn csv_quotes_and_jsonl_survives_a_torn_last_line() {
         let r = sample("a,b", "bl+paper");
+        assert_eq!(r.status, RunStatus::Failed);
         let rec = r.to_csv_record();
         assert!(rec.starts_with("\"a,b\","));
         assert!(rec.contains("\"boom, \"\"quoted\"\"\""));

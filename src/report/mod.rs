@@ -334,3 +334,44 @@ pub fn write_report(results: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>> {
     files.extend(plots::write_plots(&m.rows, out)?);
     Ok(files)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::{run::base_row, spec::PlannerSpec};
+
+    fn row(inst: &str, planner: &str, len: Option<usize>) -> ResultRow {
+        let i = crate::instance::Instance::load(concat!(env!("CARGO_MANIFEST_DIR"), "/instances/examples/two_boxes.toml"))
+            .expect("bundled example");
+        let mut r = base_row(inst, &i, &PlannerSpec::parse(planner, "p").expect("spec"), 5.0);
+        if let Some(l) = len {
+            r.status = RunStatus::Ok;
+            r.verify = Some("valid".into());
+            r.seq_len = Some(l);
+            r.occupied_area = Some(l as f64);
+        }
+        r
+    }
+
+    #[test]
+    fn medians_best_and_ablation_means_use_only_solved_common_instances() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&[4.0, 1.0]), Some(2.5));
+        assert_eq!(median(&[]), None);
+        let rows = vec![
+            row("s/a", "bl+paper", Some(4)),
+            row("s/a", "bl+paper+no-direct", Some(6)),
+            row("s/b", "bl+paper", Some(8)),
+            row("s/b", "bl+paper+no-direct", None), // unsolved: b drops out of the ablation means
+        ];
+        assert_eq!(best_per_instance(&rows)["s/a"], (4.0, 4.0));
+        let groups = ablation_groups(&rows);
+        assert_eq!(groups.len(), 1);
+        let m = ablation_means(&rows, &groups[0].1);
+        assert_eq!(m, vec![("s".to_string(), 1, vec![Some(4.0), Some(6.0)])]);
+        let refs: Vec<&ResultRow> = rows.iter().filter(|r| r.planner == "bl+paper+no-direct").collect();
+        let g = group_stats(&refs, &best_per_instance(&rows));
+        assert_eq!((g.runs, g.solved, g.failed), (2, 1, 1));
+        assert_eq!(g.len_vs_best, Some(1.5));
+    }
+}

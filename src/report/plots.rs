@@ -4,6 +4,7 @@
 use super::{ablation_groups, ablation_means, best_per_instance, median, planners, sets};
 use crate::bench::row::ResultRow;
 use crate::error::{Error, Result};
+use plotters::chart::MeshStyle;
 use plotters::prelude::*;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -64,6 +65,19 @@ pub fn write_plots(rows: &[ResultRow], out: &Path) -> Result<Vec<PathBuf>> {
 
 type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
 
+/// The look shared by every plot: label sizes and light grid lines.
+fn house_style<'m, 'a, 'b, X, Y, DB>(m: &'m mut MeshStyle<'a, 'b, X, Y, DB>) -> &'m mut MeshStyle<'a, 'b, X, Y, DB>
+where
+    X: plotters::coord::ranged1d::Ranged,
+    Y: plotters::coord::ranged1d::Ranged,
+    DB: DrawingBackend,
+{
+    m.label_style((FONT, 16))
+        .axis_desc_style((FONT, 18))
+        .light_line_style(RGBColor(242, 242, 242))
+        .bold_line_style(RGBColor(205, 205, 205))
+}
+
 /// Log-axis range covering `v` with some room, never touching zero.
 fn log_range(v: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -122,14 +136,9 @@ fn time_vs_objects(rows: &[ResultRow], names: &[String], path: &Path) -> DrawRes
         .x_label_area_size(55)
         .y_label_area_size(80)
         .build_cartesian_2d((nmin - 1.0)..(nmax + 1.0), yr.log_scale())?;
-    chart
-        .configure_mesh()
+    house_style(&mut chart.configure_mesh())
         .x_desc("objects")
         .y_desc("median wall time (s, log scale)")
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 18))
-        .light_line_style(RGBColor(242, 242, 242))
-        .bold_line_style(RGBColor(205, 205, 205))
         .y_labels(30)
         .x_label_formatter(&|x| format!("{x:.0}"))
         .y_label_formatter(&|y| format!("{y}"))
@@ -168,14 +177,9 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         .x_label_area_size(55)
         .y_label_area_size(80)
         .build_cartesian_2d(0f64..(per_planner as f64 * 1.02 + 1.0), yr.log_scale())?;
-    chart
-        .configure_mesh()
+    house_style(&mut chart.configure_mesh())
         .x_desc(format!("instances solved (of {per_planner} per planner)"))
         .y_desc("wall time per run (s, log scale)")
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 18))
-        .light_line_style(RGBColor(242, 242, 242))
-        .bold_line_style(RGBColor(205, 205, 205))
         .y_labels(30)
         .x_label_formatter(&|x| format!("{x:.0}"))
         .y_label_formatter(&|y| format!("{y}"))
@@ -244,14 +248,9 @@ fn ratios(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
             .x_label_area_size(55)
             .y_label_area_size(70)
             .build_cartesian_2d((lo - pad)..(hi + pad), 0f64..1.02)?;
-        chart
-            .configure_mesh()
+        house_style(&mut chart.configure_mesh())
             .x_desc(format!("{what} / {what} of {refname}"))
             .y_desc("share of instances with ratio ≤ x")
-            .label_style((FONT, 15))
-            .axis_desc_style((FONT, 17))
-            .light_line_style(RGBColor(242, 242, 242))
-            .bold_line_style(RGBColor(205, 205, 205))
             .x_label_formatter(&|x| format!("{x:.2}"))
             .y_label_formatter(&|y| format!("{:.0} %", 100.0 * y))
             .draw()?;
@@ -301,8 +300,7 @@ fn table2(rows: &[ResultRow], base: &str, variants: &[String], path: &Path) -> D
         .y_label_area_size(70)
         .build_cartesian_2d(0.4f64..(set_names.len() as f64 + 0.6), 0f64..(ymax * 1.25))?;
     let labels = set_names.clone();
-    chart
-        .configure_mesh()
+    house_style(&mut chart.configure_mesh())
         .disable_x_mesh()
         .x_labels(set_names.len() + 2)
         .x_label_formatter(&|x| {
@@ -315,10 +313,6 @@ fn table2(rows: &[ResultRow], base: &str, variants: &[String], path: &Path) -> D
         })
         .x_desc("instance set (instances every variant solved)")
         .y_desc("mean number of actions")
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 18))
-        .light_line_style(RGBColor(242, 242, 242))
-        .bold_line_style(RGBColor(205, 205, 205))
         .draw()?;
     let w = 0.8 / variants.len() as f64;
     for (j, v) in variants.iter().enumerate() {
