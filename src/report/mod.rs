@@ -253,7 +253,7 @@ the same instance, over the instances this planner solved.\n"
             let _ = write!(s, "\n|---|---:|");
             s += &"---:|".repeat(variants.len());
             s.push('\n');
-            for (set, n, means) in ablation_means(rows, variants) {
+            for (set, n, means) in ablation_means(rows, variants).into_iter().filter(|m| m.1 > 0) {
                 let _ = write!(s, "| {set} | {n} |");
                 for m in means {
                     let _ = write!(s, " {} |", opt(m, |x| format!("{x:.2}")));

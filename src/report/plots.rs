@@ -1,7 +1,7 @@
 //! SVG plots of benchmark rows (plotters): time vs objects, cactus, ratio distributions to the
 //! reference planner, and the paper's Table II as bars.
 
-use super::{ablation_groups, ablation_means, best_per_instance, median, planners, sets};
+use super::{ablation_groups, ablation_means, best_per_instance, median, planners};
 use crate::bench::row::ResultRow;
 use crate::error::{Error, Result};
 use plotters::chart::MeshStyle;
@@ -151,7 +151,7 @@ fn time_vs_objects(rows: &[ResultRow], names: &[String], path: &Path) -> DrawRes
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(w)));
         chart.draw_series(v.into_iter().map(|p| Circle::new(p, 5, c.filled())))?;
     }
-    draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+    draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
     root.present()?;
     Ok(())
 }
@@ -195,7 +195,7 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
             chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))?;
         }
     }
-    draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+    draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
     root.present()?;
     Ok(())
 }
@@ -282,8 +282,9 @@ fn ratios(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
 }
 
 fn table2(rows: &[ResultRow], base: &str, variants: &[String], path: &Path) -> DrawResult {
-    let means = ablation_means(rows, variants);
-    let set_names = sets(rows);
+    // Only sets where some instance was solved by every variant: the others have no bars.
+    let means: Vec<_> = ablation_means(rows, variants).into_iter().filter(|m| m.1 > 0).collect();
+    let set_names: Vec<String> = means.iter().map(|m| format!("{} ({})", m.0, m.1)).collect();
     let ymax = means
         .iter()
         .flat_map(|(_, _, m)| m.iter().flatten().copied())
@@ -311,7 +312,7 @@ fn table2(rows: &[ResultRow], base: &str, variants: &[String], path: &Path) -> D
                 String::new()
             }
         })
-        .x_desc("instance set (instances every variant solved)")
+        .x_desc("instance set (number of instances every variant solved)")
         .y_desc("mean number of actions")
         .draw()?;
     let w = 0.8 / variants.len() as f64;
