@@ -27,6 +27,7 @@
 #![warn(missing_docs)]
 
 pub mod actions;
+pub mod bench;
 pub mod cli;
 pub mod control;
 pub mod error;
@@ -35,6 +36,7 @@ pub mod instance;
 pub mod placement;
 pub mod plan;
 pub mod render;
+pub mod report;
 pub mod robot;
 pub mod sequence;
 pub mod verify;

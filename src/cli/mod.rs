@@ -107,6 +107,83 @@ enum Cmd {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Write a seeded set of random instances (objects of a kind share their size).
+    Generate {
+        /// Objects per instance (1-24).
+        #[arg(long)]
+        objects: usize,
+        /// Kinds per instance (1..=objects).
+        #[arg(long)]
+        kinds: usize,
+        /// Number of instances; instance i uses seed S + i.
+        #[arg(long, default_value_t = 1)]
+        count: usize,
+        /// Seed of the first instance.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Container inner width, depth and wall height in metres (default 0.30,0.20,0.10).
+        #[arg(long, value_name = "W,D,H")]
+        container: Option<String>,
+        /// Range of the horizontal box edges in metres (default 0.030,0.060; at most 0.060).
+        #[arg(long, value_name = "MIN,MAX")]
+        size_range: Option<String>,
+    },
+    /// Run planners over instance sets in parallel and append one result row per run.
+    Bench {
+        /// Instance files or directories (searched one level deep for *.toml, *.json).
+        #[arg(required = true)]
+        instances: Vec<PathBuf>,
+        /// Comma-separated planner specs PLACEMENT+SEQUENCER[+no-direct][+no-multi-push],
+        /// e.g. bl+paper,milp+astar,milp+astar+no-direct.
+        #[arg(long)]
+        planners: String,
+        /// Library time limit per stage in seconds (as `plan --time-limit`).
+        #[arg(long, default_value_t = 60.0)]
+        time_limit: f64,
+        /// Wall-clock limit of one run's process in seconds; past it the run is killed and
+        /// recorded as `timeout` (default 2 x time limit + 30).
+        #[arg(long)]
+        hard_limit: Option<f64>,
+        /// Parallel runs (default: the number of cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Output directory of results.jsonl and results.csv.
+        #[arg(long, default_value = "out/bench")]
+        out: PathBuf,
+        /// Run only shard K of N (0-based; the sorted run list, every N-th from K).
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
+        /// Continue the results already in --out: skip finished runs, redo a torn last row.
+        #[arg(long)]
+        resume: bool,
+        /// Run at most this many pending runs, then stop (continue later with --resume).
+        #[arg(long)]
+        max_runs: Option<usize>,
+    },
+    /// One benchmark run, printed as a JSON result row (the child process of `bench`).
+    #[command(hide = true)]
+    BenchRun {
+        /// Instance file.
+        instance: PathBuf,
+        /// Planner spec.
+        #[arg(long)]
+        planner: String,
+        /// Time limit per stage in seconds.
+        #[arg(long)]
+        time_limit: f64,
+    },
+    /// Merge result files and write summary tables (summary.md) and SVG plots.
+    Report {
+        /// Result files (*.jsonl) or directories holding them (shards are merged).
+        #[arg(required = true)]
+        results: Vec<PathBuf>,
+        /// Output directory.
+        #[arg(long, default_value = "out/report")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Args, Debug)]
@@ -333,6 +410,102 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 println!("{report}");
             }
             Ok(if report.stable() { EXIT_OK } else { EXIT_FAIL })
+        }
+        Cmd::Generate {
+            objects,
+            kinds,
+            count,
+            seed,
+            out,
+            container,
+            size_range,
+        } => {
+            use crate::bench::sets::{generate_set, parse_numbers, SetParams};
+            let p = SetParams {
+                objects,
+                kinds,
+                count,
+                seed,
+                container: container.as_deref().map(|c| parse_numbers::<3>(c, "--container")).transpose()?,
+                size_range: size_range
+                    .as_deref()
+                    .map(|c| parse_numbers::<2>(c, "--size-range"))
+                    .transpose()?,
+            };
+            let files = generate_set(&p, &out)?;
+            println!("wrote {} instances to {}", files.len(), out.display());
+            Ok(EXIT_OK)
+        }
+        Cmd::Bench {
+            instances,
+            planners,
+            time_limit,
+            hard_limit,
+            jobs,
+            out,
+            shard,
+            resume,
+            max_runs,
+        } => {
+            let time_limit = positive_time(Some(time_limit))?.expect("given");
+            let hard_limit = match hard_limit {
+                Some(h) if !(h.is_finite() && h > 0.0) => {
+                    return Err(Error::input("<command line>", "--hard-limit", format!("must be positive, got {h}")))
+                }
+                Some(h) => h,
+                None => 2.0 * time_limit + 30.0,
+            };
+            let jobs = match jobs {
+                Some(0) => return Err(Error::input("<command line>", "--jobs", "must be at least 1")),
+                Some(j) => j,
+                None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            };
+            let cfg = crate::bench::BenchConfig {
+                instances,
+                planners: crate::bench::spec::PlannerSpec::parse_list(&planners, "--planners")?,
+                time_limit,
+                hard_limit,
+                jobs,
+                out,
+                shard: shard.as_deref().map(crate::bench::Shard::parse).transpose()?,
+                resume,
+                max_runs,
+                exe: std::env::current_exe().map_err(|e| Error::Io {
+                    path: PathBuf::from("<current executable>"),
+                    source: e,
+                })?,
+            };
+            let s = crate::bench::run_batch(&cfg)?;
+            println!(
+                "bench: {} runs in this shard, {} already done, {} run now ({} failed, {} timed out), {} left; results in {}",
+                s.total,
+                s.already_done,
+                s.ran,
+                s.failed,
+                s.timeout,
+                s.left,
+                s.results.display()
+            );
+            Ok(EXIT_OK)
+        }
+        Cmd::BenchRun {
+            instance,
+            planner,
+            time_limit,
+        } => {
+            let spec = crate::bench::spec::PlannerSpec::parse(&planner, "--planner")?;
+            let time_limit = positive_time(Some(time_limit))?.expect("given");
+            let inst = Instance::load(&instance)?;
+            let row = crate::bench::run::run_in_process(&instance.display().to_string(), &inst, &spec, time_limit);
+            println!("{}", row.to_json_line());
+            Ok(EXIT_OK)
+        }
+        Cmd::Report { results, out } => {
+            let files = crate::report::write_report(&results, &out)?;
+            for f in files {
+                println!("wrote {}", f.display());
+            }
+            Ok(EXIT_OK)
         }
         Cmd::Render { plan, instance, out } => {
             let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;

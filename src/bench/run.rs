@@ -1,0 +1,142 @@
+//! One benchmark run in this process: plan an instance with one planner, verify the plan, and
+//! turn everything into a [`ResultRow`]. Errors and panics become `failed` rows, never aborts.
+
+use super::row::{tool_version, ResultRow, RunStatus};
+use super::spec::PlannerSpec;
+use crate::instance::Instance;
+use crate::plan::optimize;
+use crate::verify::verify;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::Path;
+use std::time::Instant;
+
+/// Set name of an instance path: its parent folder's name (empty for a bare file name).
+pub fn set_name(path: &str) -> String {
+    Path::new(path)
+        .parent()
+        .and_then(|p| p.file_name())
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// A row with the instance and planner filled in and no results yet (status `failed`).
+pub fn base_row(path: &str, inst: &Instance, spec: &PlannerSpec, time_limit: f64) -> ResultRow {
+    let (tool_version, git_commit) = tool_version();
+    ResultRow {
+        instance: path.to_string(),
+        instance_digest: inst.digest.clone(),
+        set: set_name(path),
+        name: inst.name.clone(),
+        objects: inst.n(),
+        kinds: inst.kinds.len(),
+        planner: spec.to_string(),
+        seed: inst.settings.seed,
+        time_limit_s: time_limit,
+        status: RunStatus::Failed,
+        error: None,
+        placement_status: None,
+        occupied_area: None,
+        placement_bound: None,
+        placement_gap: None,
+        contact_length: None,
+        seq_len: None,
+        n_place_direct: None,
+        n_place_indirect: None,
+        n_push: None,
+        n_multi_push: None,
+        swept_area: None,
+        travel: None,
+        min_push_margin: None,
+        sequence_status: None,
+        sequence_bound_len: None,
+        sequence_bound_area: None,
+        sequence_bound_travel: None,
+        sequence_gap: None,
+        placement_nodes: None,
+        sequence_nodes: None,
+        sequence_assignments: None,
+        placement_time_s: None,
+        sequence_time_s: None,
+        plan_time_s: None,
+        verify_time_s: None,
+        wall_time_s: 0.0,
+        verify: None,
+        violations: None,
+        robot_issues: None,
+        tool_version,
+        git_commit,
+    }
+}
+
+/// Text of a panic payload.
+fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        s.to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "panic with a non-text payload".into()
+    }
+}
+
+/// Plan `inst` with `spec` (the library's per-stage `time_limit`), verify, and fill the row.
+pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limit: f64) -> ResultRow {
+    let start = Instant::now();
+    let mut row = base_row(path, inst, spec, time_limit);
+    let opts = spec.options(inst, time_limit);
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let t = Instant::now();
+        let out = optimize(inst, &opts)?;
+        let plan_time = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let report = verify(inst, &out.plan);
+        Ok::<_, crate::error::Error>((out, plan_time, report, t.elapsed().as_secs_f64()))
+    }));
+    match result {
+        Err(p) => row.error = Some(format!("panic: {}", panic_message(p.as_ref()))),
+        Ok(Err(e)) => {
+            // The sequencers report "stopped by the time limit before any plan" only in the
+            // text of Error::Infeasible; such a run ran out of time, it did not prove anything.
+            if matches!(&e, crate::error::Error::Infeasible { reason } if reason.contains("(TimeLimit)")) {
+                row.status = RunStatus::Timeout;
+            }
+            row.error = Some(e.to_string());
+        }
+        Ok(Ok((out, plan_time, report, verify_time))) => {
+            let plan = &out.plan;
+            let m = plan.metrics;
+            let (ps, ss) = (&plan.solver.placement, &plan.solver.sequence);
+            row.status = RunStatus::Ok;
+            row.placement_status = Some(ps.status.clone());
+            row.occupied_area = Some(plan.placement.occupied_area);
+            row.placement_bound = Some(plan.placement.lower_bound);
+            row.placement_gap = Some(plan.placement.gap);
+            row.contact_length = Some(plan.placement.contact_length);
+            row.seq_len = Some(m.seq_len);
+            row.n_place_direct = Some(m.n_place_direct);
+            row.n_place_indirect = Some(m.n_place_indirect);
+            row.n_push = Some(m.n_push);
+            row.n_multi_push = Some(m.n_multi_push);
+            row.swept_area = Some(m.swept_area);
+            row.travel = Some(m.travel);
+            row.min_push_margin = plan.actions.iter().filter_map(|a| a.margin).reduce(f64::min);
+            row.sequence_status = Some(ss.status.clone());
+            row.sequence_bound_len = ss.cost_bound.map(|c| c.len);
+            row.sequence_bound_area = ss.cost_bound.map(|c| c.area);
+            row.sequence_bound_travel = ss.cost_bound.map(|c| c.travel);
+            row.sequence_gap = ss.gap;
+            row.placement_nodes = Some(ps.nodes);
+            row.sequence_nodes = Some(ss.nodes);
+            row.sequence_assignments = ss.assignments;
+            row.placement_time_s = Some(ps.time_s);
+            row.sequence_time_s = Some(ss.time_s);
+            row.plan_time_s = Some(plan_time);
+            row.verify_time_s = Some(verify_time);
+            row.verify = Some(if report.is_valid() { "valid" } else { "invalid" }.into());
+            row.violations = Some(report.violations.len());
+            row.robot_issues = Some(report.robot_issues.len());
+        }
+    }
+    row.wall_time_s = start.elapsed().as_secs_f64();
+    row
+}

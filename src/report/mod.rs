@@ -1,0 +1,377 @@
+//! Benchmark reports: merge result rows (shards, reruns), summarise them per set and planner in
+//! markdown (`summary.md`), and draw SVG plots (`report::plots`).
+
+pub mod plots;
+
+use crate::bench::row::{read_jsonl, result_files, ResultRow, RunStatus};
+use crate::error::{Error, Result};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Merged rows and what merging did.
+#[derive(Debug, Clone)]
+pub struct Merged {
+    /// One row per (instance, planner), sorted by that key.
+    pub rows: Vec<ResultRow>,
+    /// Files read.
+    pub files: Vec<PathBuf>,
+    /// Rows dropped because a later file (or line) had the same (instance, planner).
+    pub duplicates: usize,
+}
+
+/// Read every result file among `paths` (files or directories) and keep one row per
+/// (instance, planner): the last one read, files in the order given (directories sorted).
+pub fn load_rows(paths: &[PathBuf]) -> Result<Merged> {
+    let files = result_files(paths)?;
+    let mut by_key: BTreeMap<(String, String), ResultRow> = BTreeMap::new();
+    let mut duplicates = 0;
+    for f in &files {
+        for r in read_jsonl(f)?.0 {
+            if by_key.insert(r.key(), r).is_some() {
+                duplicates += 1;
+            }
+        }
+    }
+    Ok(Merged {
+        rows: by_key.into_values().collect(),
+        files,
+        duplicates,
+    })
+}
+
+/// Median of a sample (mean of the middle two for even sizes); `None` when empty.
+pub fn median(v: &[f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let m = s.len() / 2;
+    Some(if s.len() % 2 == 1 { s[m] } else { 0.5 * (s[m - 1] + s[m]) })
+}
+
+fn mean(v: &[f64]) -> Option<f64> {
+    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+}
+
+/// Per instance, the best (smallest) occupied area and number of actions of any solved row.
+pub fn best_per_instance(rows: &[ResultRow]) -> HashMap<String, (f64, f64)> {
+    let mut best: HashMap<String, (f64, f64)> = HashMap::new();
+    for r in rows.iter().filter(|r| r.solved()) {
+        let (Some(a), Some(l)) = (r.occupied_area, r.seq_len) else { continue };
+        let e = best.entry(r.instance.clone()).or_insert((f64::INFINITY, f64::INFINITY));
+        e.0 = e.0.min(a);
+        e.1 = e.1.min(l as f64);
+    }
+    best
+}
+
+/// Statistics of one group of rows (a set and planner, or a planner over every set).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupStats {
+    /// Runs.
+    pub runs: usize,
+    /// Runs with a verified plan.
+    pub solved: usize,
+    /// Solved runs with both stages proven optimal.
+    pub proven: usize,
+    /// Runs recorded as `failed`.
+    pub failed: usize,
+    /// Runs recorded as `timeout`.
+    pub timeout: usize,
+    /// Median wall time of solved runs (s).
+    pub median_time: Option<f64>,
+    /// Largest wall time of solved runs (s).
+    pub max_time: Option<f64>,
+    /// Mean placement gap of solved runs.
+    pub mean_gap: Option<f64>,
+    /// Mean occupied area relative to the best solved planner on the same instance.
+    pub area_vs_best: Option<f64>,
+    /// Mean number of actions relative to the best solved planner on the same instance.
+    pub len_vs_best: Option<f64>,
+}
+
+/// Statistics of `rows` against the per-instance `best`.
+pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>) -> GroupStats {
+    let solved: Vec<&&ResultRow> = rows.iter().filter(|r| r.solved()).collect();
+    let times: Vec<f64> = solved.iter().map(|r| r.wall_time_s).collect();
+    let gaps: Vec<f64> = solved.iter().filter_map(|r| r.placement_gap).collect();
+    let mut area_r = Vec::new();
+    let mut len_r = Vec::new();
+    for r in &solved {
+        if let (Some(&(ba, bl)), Some(a), Some(l)) = (best.get(&r.instance), r.occupied_area, r.seq_len) {
+            area_r.push(a / ba);
+            len_r.push(l as f64 / bl);
+        }
+    }
+    GroupStats {
+        runs: rows.len(),
+        solved: solved.len(),
+        proven: rows.iter().filter(|r| r.proven()).count(),
+        failed: rows.iter().filter(|r| r.status == RunStatus::Failed).count(),
+        timeout: rows.iter().filter(|r| r.status == RunStatus::Timeout).count(),
+        median_time: median(&times),
+        max_time: times.iter().copied().reduce(f64::max),
+        mean_gap: mean(&gaps),
+        area_vs_best: mean(&area_r),
+        len_vs_best: mean(&len_r),
+    }
+}
+
+fn opt(v: Option<f64>, f: impl Fn(f64) -> String) -> String {
+    v.map_or("–".into(), f)
+}
+
+fn pct(n: usize, d: usize) -> String {
+    if d == 0 {
+        "–".into()
+    } else {
+        format!("{:.0} %", 100.0 * n as f64 / d as f64)
+    }
+}
+
+const TABLE_HEAD: &str = "| runs | solved | proven optimal | failed | timeout | median time (s) | max time (s) | mean placement gap | area / best | actions / best |\n";
+const TABLE_RULE: &str = "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+
+fn stats_cells(s: &GroupStats) -> String {
+    format!(
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+        s.runs,
+        pct(s.solved, s.runs),
+        pct(s.proven, s.runs),
+        s.failed,
+        s.timeout,
+        opt(s.median_time, |t| format!("{t:.2}")),
+        opt(s.max_time, |t| format!("{t:.2}")),
+        opt(s.mean_gap, |g| format!("{:.1} %", 100.0 * g)),
+        opt(s.area_vs_best, |x| format!("{x:.3}")),
+        opt(s.len_vs_best, |x| format!("{x:.3}")),
+    )
+}
+
+/// Planners in the order of first appearance after sorting by name, base planners first.
+pub fn planners(rows: &[ResultRow]) -> Vec<String> {
+    let set: BTreeSet<&str> = rows.iter().map(|r| r.planner.as_str()).collect();
+    set.into_iter().map(String::from).collect()
+}
+
+/// Sets sorted by the smallest object count they hold, then by name.
+pub fn sets(rows: &[ResultRow]) -> Vec<String> {
+    let mut m: BTreeMap<String, usize> = BTreeMap::new();
+    for r in rows {
+        let e = m.entry(r.set.clone()).or_insert(usize::MAX);
+        *e = (*e).min(r.objects);
+    }
+    let mut v: Vec<(String, usize)> = m.into_iter().collect();
+    v.sort_by(|a, b| a.1.cmp(&b.1).then(a.0.cmp(&b.0)));
+    v.into_iter().map(|(s, _)| s).collect()
+}
+
+/// Ablation variants present for each base planner (the paper's Table II), base first.
+pub fn ablation_groups(rows: &[ResultRow]) -> Vec<(String, Vec<String>)> {
+    let names = planners(rows);
+    let mut out = Vec::new();
+    for base in names.iter().filter(|p| !p.contains("+no-")) {
+        let variants: Vec<String> = [
+            base.clone(),
+            format!("{base}+no-direct"),
+            format!("{base}+no-multi-push"),
+            format!("{base}+no-direct+no-multi-push"),
+        ]
+        .into_iter()
+        .filter(|v| names.contains(v))
+        .collect();
+        if variants.len() > 1 {
+            out.push((base.clone(), variants));
+        }
+    }
+    out
+}
+
+/// The markdown summary of merged rows.
+pub fn summary_markdown(m: &Merged) -> String {
+    let rows = &m.rows;
+    let best = best_per_instance(rows);
+    let mut s = String::new();
+    let _ = writeln!(s, "# Benchmark summary\n");
+    let commits: BTreeSet<String> = rows.iter().map(|r| format!("{} ({})", r.tool_version, r.git_commit)).collect();
+    let limits: BTreeSet<String> = rows.iter().map(|r| format!("{} s", r.time_limit_s)).collect();
+    let _ = writeln!(
+        s,
+        "{} rows from {} file(s), {} duplicate row(s) dropped; pushpack {}; time limit per stage {}.\n",
+        rows.len(),
+        m.files.len(),
+        m.duplicates,
+        commits.into_iter().collect::<Vec<_>>().join(", "),
+        limits.into_iter().collect::<Vec<_>>().join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "*solved*: a plan the verifier accepts; *proven optimal*: placement `optimal` and sequence search \
+`complete`; times are wall-clock seconds of solved runs (one process per run, robot trajectories and \
+verification included); *area / best* and *actions / best*: mean ratio to the best solved planner on \
+the same instance, over the instances this planner solved.\n"
+    );
+    let names = planners(rows);
+    let _ = writeln!(s, "## All sets\n");
+    s += "| planner ";
+    s += TABLE_HEAD;
+    s += "|---";
+    s += TABLE_RULE;
+    for p in &names {
+        let g: Vec<&ResultRow> = rows.iter().filter(|r| &r.planner == p).collect();
+        let _ = writeln!(s, "| {p} {}", stats_cells(&group_stats(&g, &best)));
+    }
+    let _ = writeln!(s, "\n## Per set\n");
+    s += "| set | objects | planner ";
+    s += TABLE_HEAD;
+    s += "|---|---:|---";
+    s += TABLE_RULE;
+    for set in sets(rows) {
+        let objs: BTreeSet<usize> = rows.iter().filter(|r| r.set == set).map(|r| r.objects).collect();
+        let objs = objs.iter().map(usize::to_string).collect::<Vec<_>>().join(", ");
+        for p in &names {
+            let g: Vec<&ResultRow> = rows.iter().filter(|r| r.set == set && &r.planner == p).collect();
+            if !g.is_empty() {
+                let _ = writeln!(s, "| {set} | {objs} | {p} {}", stats_cells(&group_stats(&g, &best)));
+            }
+        }
+    }
+    let groups = ablation_groups(rows);
+    if !groups.is_empty() {
+        let _ = writeln!(s, "\n## Ablations (the paper's Table II): mean number of actions\n");
+        let _ = writeln!(
+            s,
+            "Over the instances every variant of the group solved, so the means compare like with like.\n"
+        );
+        for (base, variants) in &groups {
+            let _ = write!(s, "| set | instances |");
+            for v in variants {
+                let _ = write!(s, " {v} |");
+            }
+            let _ = write!(s, "\n|---|---:|");
+            s += &"---:|".repeat(variants.len());
+            s.push('\n');
+            for (set, n, means) in ablation_means(rows, variants).into_iter().filter(|m| m.1 > 0) {
+                let _ = write!(s, "| {set} | {n} |");
+                for m in means {
+                    let _ = write!(s, " {} |", opt(m, |x| format!("{x:.2}")));
+                }
+                s.push('\n');
+            }
+            let _ = writeln!(s, "\n(base planner {base})\n");
+        }
+    }
+    let failures: Vec<&ResultRow> = rows.iter().filter(|r| r.status != RunStatus::Ok || !r.solved()).collect();
+    if !failures.is_empty() {
+        let _ = writeln!(s, "\n## Runs without a verified plan\n");
+        let _ = writeln!(s, "| instance | planner | status | verifier | error |\n|---|---|---|---|---|");
+        for r in failures {
+            let err = r.error.as_deref().unwrap_or("").replace('|', "\\|");
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:?} | {} | {} |",
+                r.instance,
+                r.planner,
+                r.status,
+                r.verify.as_deref().unwrap_or("–"),
+                err
+            );
+        }
+    }
+    s
+}
+
+/// Per set: number of instances every variant solved, and each variant's mean actions on them.
+pub fn ablation_means(rows: &[ResultRow], variants: &[String]) -> Vec<(String, usize, Vec<Option<f64>>)> {
+    let mut out = Vec::new();
+    for set in sets(rows) {
+        let mut per_inst: BTreeMap<&str, Vec<Option<usize>>> = BTreeMap::new();
+        for r in rows.iter().filter(|r| r.set == set) {
+            if let Some(k) = variants.iter().position(|v| *v == r.planner) {
+                let e = per_inst.entry(&r.instance).or_insert(vec![None; variants.len()]);
+                e[k] = if r.solved() { r.seq_len } else { None };
+            }
+        }
+        let common: Vec<Vec<usize>> = per_inst
+            .into_values()
+            .filter_map(|v| v.into_iter().collect::<Option<Vec<usize>>>())
+            .collect();
+        let means = (0..variants.len())
+            .map(|k| mean(&common.iter().map(|v| v[k] as f64).collect::<Vec<_>>()))
+            .collect();
+        out.push((set, common.len(), means));
+    }
+    out
+}
+
+/// Merge `results`, write `summary.md`, `merged.jsonl` and the plots into `out`; returns the files.
+pub fn write_report(results: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>> {
+    let m = load_rows(results)?;
+    if m.rows.is_empty() {
+        return Err(Error::input(
+            results.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
+            "<rows>",
+            "no result rows to report",
+        ));
+    }
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.to_path_buf(),
+        source: e,
+    })?;
+    let write = |name: &str, text: String| -> Result<PathBuf> {
+        let p = out.join(name);
+        std::fs::write(&p, text).map_err(|e| Error::Io {
+            path: p.clone(),
+            source: e,
+        })?;
+        Ok(p)
+    };
+    let mut files = vec![write("summary.md", summary_markdown(&m))?];
+    let merged: String = m.rows.iter().map(|r| r.to_json_line() + "\n").collect();
+    files.push(write("merged.jsonl", merged)?);
+    files.extend(plots::write_plots(&m.rows, out)?);
+    Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::{run::base_row, spec::PlannerSpec};
+
+    fn row(inst: &str, planner: &str, len: Option<usize>) -> ResultRow {
+        let i = crate::instance::Instance::load(concat!(env!("CARGO_MANIFEST_DIR"), "/instances/examples/two_boxes.toml"))
+            .expect("bundled example");
+        let mut r = base_row(inst, &i, &PlannerSpec::parse(planner, "p").expect("spec"), 5.0);
+        if let Some(l) = len {
+            r.status = RunStatus::Ok;
+            r.verify = Some("valid".into());
+            r.seq_len = Some(l);
+            r.occupied_area = Some(l as f64);
+        }
+        r
+    }
+
+    #[test]
+    fn medians_best_and_ablation_means_use_only_solved_common_instances() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&[4.0, 1.0]), Some(2.5));
+        assert_eq!(median(&[]), None);
+        let rows = vec![
+            row("s/a", "bl+paper", Some(4)),
+            row("s/a", "bl+paper+no-direct", Some(6)),
+            row("s/b", "bl+paper", Some(8)),
+            row("s/b", "bl+paper+no-direct", None), // unsolved: b drops out of the ablation means
+        ];
+        assert_eq!(best_per_instance(&rows)["s/a"], (4.0, 4.0));
+        let groups = ablation_groups(&rows);
+        assert_eq!(groups.len(), 1);
+        let m = ablation_means(&rows, &groups[0].1);
+        assert_eq!(m, vec![("s".to_string(), 1, vec![Some(4.0), Some(6.0)])]);
+        let refs: Vec<&ResultRow> = rows.iter().filter(|r| r.planner == "bl+paper+no-direct").collect();
+        let g = group_stats(&refs, &best_per_instance(&rows));
+        assert_eq!((g.runs, g.solved, g.failed), (2, 1, 1));
+        assert_eq!(g.len_vs_best, Some(1.5));
+    }
+}

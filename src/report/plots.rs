@@ -1,0 +1,338 @@
+//! SVG plots of benchmark rows (plotters): time vs objects, cactus, ratio distributions to the
+//! reference planner, and the paper's Table II as bars.
+
+use super::{ablation_groups, ablation_means, best_per_instance, median, planners};
+use crate::bench::row::ResultRow;
+use crate::error::{Error, Result};
+use plotters::chart::MeshStyle;
+use plotters::prelude::*;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+const SIZE: (u32, u32) = (960, 600);
+const FONT: &str = "sans-serif";
+/// Tableau 10: distinguishable, and readable in grey print.
+const COLORS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+fn color(k: usize) -> RGBColor {
+    COLORS[k % COLORS.len()]
+}
+
+/// Line width of series `k` of `n`: earlier series are drawn wider, so a later series lying on
+/// top of an earlier one (e.g. two planners with the same placement) leaves it visible.
+fn width(k: usize, n: usize) -> u32 {
+    2 + 2 * (n.saturating_sub(k + 1).min(3)) as u32
+}
+
+fn draw_err(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e.to_string()),
+    }
+}
+
+/// Write every plot the rows support; returns the files written.
+pub fn write_plots(rows: &[ResultRow], out: &Path) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let names = planners(rows);
+    let p = out.join("time_vs_objects.svg");
+    time_vs_objects(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
+    files.push(p);
+    let p = out.join("cactus.svg");
+    cactus(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
+    files.push(p);
+    let p = out.join("ratios.svg");
+    ratios(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
+    files.push(p);
+    for (base, variants) in ablation_groups(rows) {
+        let p = out.join(format!("table2_{}.svg", base.replace('+', "_")));
+        table2(rows, &base, &variants, &p).map_err(|e| draw_err(&p, e))?;
+        files.push(p);
+    }
+    Ok(files)
+}
+
+type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
+
+/// The look shared by every plot: label sizes and light grid lines.
+fn house_style<'m, 'a, 'b, X, Y, DB>(m: &'m mut MeshStyle<'a, 'b, X, Y, DB>) -> &'m mut MeshStyle<'a, 'b, X, Y, DB>
+where
+    X: plotters::coord::ranged1d::Ranged,
+    Y: plotters::coord::ranged1d::Ranged,
+    DB: DrawingBackend,
+{
+    m.label_style((FONT, 16))
+        .axis_desc_style((FONT, 18))
+        .light_line_style(RGBColor(242, 242, 242))
+        .bold_line_style(RGBColor(205, 205, 205))
+}
+
+/// Log-axis range covering `v` with some room, never touching zero.
+fn log_range(v: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for x in v.filter(|x| x.is_finite() && *x > 0.0) {
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    if !lo.is_finite() {
+        return 0.1..10.0;
+    }
+    // Whole decades: plotters labels a log axis well only from one power of ten to another.
+    let lo = 10f64.powf((lo * 0.9).max(1e-3).log10().floor());
+    let hi = 10f64.powf((hi * 1.1).log10().ceil()).max(lo * 10.0);
+    lo..hi
+}
+
+fn draw_legend<'a, DB: DrawingBackend + 'a, X: plotters::coord::ranged1d::Ranged, Y: plotters::coord::ranged1d::Ranged>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    pos: SeriesLabelPosition,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .position(pos)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.5))
+        .label_font((FONT, 17))
+        .draw()?;
+    Ok(())
+}
+
+fn time_vs_objects(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
+    // Median wall time of solved runs per (planner, object count).
+    let mut pts: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
+    for (k, p) in names.iter().enumerate() {
+        let mut by_n: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
+        for r in rows.iter().filter(|r| &r.planner == p && r.solved()) {
+            by_n.entry(r.objects).or_default().push(r.wall_time_s);
+        }
+        let v: Vec<(f64, f64)> = by_n
+            .into_iter()
+            .filter_map(|(n, t)| median(&t).map(|m| (n as f64, m)))
+            .collect();
+        pts.push((k, v));
+    }
+    let nmax = rows.iter().map(|r| r.objects).max().unwrap_or(1) as f64;
+    let nmin = rows.iter().map(|r| r.objects).min().unwrap_or(0) as f64;
+    let yr = log_range(pts.iter().flat_map(|(_, v)| v.iter().map(|p| p.1)));
+    let root = SVGBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("Median wall time of solved runs vs number of objects", (FONT, 24))
+        .margin(20)
+        .x_label_area_size(55)
+        .y_label_area_size(80)
+        .build_cartesian_2d((nmin - 1.0)..(nmax + 1.0), yr.log_scale())?;
+    house_style(&mut chart.configure_mesh())
+        .x_desc("objects")
+        .y_desc("median wall time (s, log scale)")
+        .y_labels(30)
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .y_label_formatter(&|y| format!("{y}"))
+        .draw()?;
+    for (k, v) in pts {
+        let (c, w) = (color(k), width(k, names.len()));
+        chart
+            .draw_series(LineSeries::new(v.clone(), c.stroke_width(w)))?
+            .label(names[k].clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(w)));
+        chart.draw_series(v.into_iter().map(|p| Circle::new(p, 5, c.filled())))?;
+    }
+    draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+    root.present()?;
+    Ok(())
+}
+
+fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
+    let mut series = Vec::new();
+    for p in names {
+        let mut t: Vec<f64> = rows.iter().filter(|r| &r.planner == p && r.solved()).map(|r| r.wall_time_s).collect();
+        t.sort_by(f64::total_cmp);
+        series.push(t);
+    }
+    let per_planner = names
+        .iter()
+        .map(|p| rows.iter().filter(|r| &r.planner == p).count())
+        .max()
+        .unwrap_or(1);
+    let yr = log_range(series.iter().flatten().copied());
+    let root = SVGBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("Cactus plot: instances solved within a time per run", (FONT, 24))
+        .margin(20)
+        .x_label_area_size(55)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0f64..(per_planner as f64 * 1.02 + 1.0), yr.log_scale())?;
+    house_style(&mut chart.configure_mesh())
+        .x_desc(format!("instances solved (of {per_planner} per planner)"))
+        .y_desc("wall time per run (s, log scale)")
+        .y_labels(30)
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .y_label_formatter(&|y| format!("{y}"))
+        .draw()?;
+    for (k, t) in series.into_iter().enumerate() {
+        let (c, w) = (color(k), width(k, names.len()));
+        let pts: Vec<(f64, f64)> = t.iter().enumerate().map(|(i, &y)| ((i + 1) as f64, y)).collect();
+        chart
+            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(w)))?
+            .label(format!("{} ({} solved)", names[k], pts.len()))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(w)));
+        if pts.len() <= 60 {
+            chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))?;
+        }
+    }
+    draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+    root.present()?;
+    Ok(())
+}
+
+/// The reference for ratios: `milp+astar` (the exact pipeline) when present, else the best
+/// solved planner per instance.
+fn reference(rows: &[ResultRow], names: &[String]) -> (String, HashMap<String, (f64, f64)>) {
+    if names.iter().any(|n| n == "milp+astar") {
+        let m = rows
+            .iter()
+            .filter(|r| r.planner == "milp+astar" && r.solved())
+            .filter_map(|r| Some((r.instance.clone(), (r.occupied_area?, r.seq_len? as f64))))
+            .collect();
+        ("milp+astar".into(), m)
+    } else {
+        ("the best planner per instance".into(), best_per_instance(rows))
+    }
+}
+
+fn ratios(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
+    let (refname, refv) = reference(rows, names);
+    // Per planner (other than the reference): sorted ratios of area and of actions.
+    let mut data: Vec<(usize, Vec<f64>, Vec<f64>)> = Vec::new();
+    for (k, p) in names.iter().enumerate().filter(|(_, p)| **p != refname) {
+        let (mut a, mut l) = (Vec::new(), Vec::new());
+        for r in rows.iter().filter(|r| &r.planner == p && r.solved()) {
+            if let (Some(&(ra, rl)), Some(x), Some(n)) = (refv.get(&r.instance), r.occupied_area, r.seq_len) {
+                a.push(x / ra);
+                l.push(n as f64 / rl);
+            }
+        }
+        a.sort_by(f64::total_cmp);
+        l.sort_by(f64::total_cmp);
+        data.push((k, a, l));
+    }
+    let root = SVGBackend::new(path, (SIZE.0 * 3 / 2, SIZE.1)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(
+        &format!("Distribution of the ratio to {refname} on the instances both solved"),
+        (FONT, 24),
+    )?;
+    let panels = root.split_evenly((1, 2));
+    for (pi, (panel, what)) in panels.iter().zip(["occupied area", "number of actions"]).enumerate() {
+        let all: Vec<f64> = data.iter().flat_map(|d| if pi == 0 { d.1.clone() } else { d.2.clone() }).collect();
+        let lo = all.iter().copied().fold(1.0f64, f64::min);
+        let hi = all.iter().copied().fold(1.0f64, f64::max);
+        let pad = ((hi - lo) * 0.05).max(0.02);
+        let mut chart = ChartBuilder::on(panel)
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(70)
+            .build_cartesian_2d((lo - pad)..(hi + pad), 0f64..1.02)?;
+        house_style(&mut chart.configure_mesh())
+            .x_desc(format!("{what} / {what} of {refname}"))
+            .y_desc("share of instances with ratio ≤ x")
+            .x_label_formatter(&|x| format!("{x:.2}"))
+            .y_label_formatter(&|y| format!("{:.0} %", 100.0 * y))
+            .draw()?;
+        for (k, a, l) in &data {
+            let v = if pi == 0 { a } else { l };
+            if v.is_empty() {
+                continue;
+            }
+            // Empirical CDF as a step line.
+            let n = v.len() as f64;
+            let mut pts = vec![(lo - pad, 0.0)];
+            for (i, &x) in v.iter().enumerate() {
+                pts.push((x, i as f64 / n));
+                pts.push((x, (i + 1) as f64 / n));
+            }
+            pts.push((hi + pad, 1.0));
+            let (c, w) = (color(*k), width(*k, names.len()));
+            chart
+                .draw_series(LineSeries::new(pts, c.stroke_width(w)))?
+                .label(format!("{} (n = {})", names[*k], v.len()))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(w)));
+        }
+        if !data.iter().all(|d| d.1.is_empty()) {
+            draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn table2(rows: &[ResultRow], base: &str, variants: &[String], path: &Path) -> DrawResult {
+    // Only sets where some instance was solved by every variant: the others have no bars.
+    let means: Vec<_> = ablation_means(rows, variants).into_iter().filter(|m| m.1 > 0).collect();
+    let set_names: Vec<String> = means.iter().map(|m| format!("{} ({})", m.0, m.1)).collect();
+    let ymax = means
+        .iter()
+        .flat_map(|(_, _, m)| m.iter().flatten().copied())
+        .fold(1.0f64, f64::max);
+    let root = SVGBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("Table II: mean number of actions with ablations of {base}"),
+            (FONT, 24),
+        )
+        .margin(20)
+        .x_label_area_size(55)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.4f64..(set_names.len() as f64 + 0.6), 0f64..(ymax * 1.25))?;
+    let labels = set_names.clone();
+    house_style(&mut chart.configure_mesh())
+        .disable_x_mesh()
+        .x_labels(set_names.len() + 2)
+        .x_label_formatter(&|x| {
+            let i = x.round();
+            if (x - i).abs() < 1e-6 && i >= 1.0 && (i as usize) <= labels.len() {
+                labels[i as usize - 1].clone()
+            } else {
+                String::new()
+            }
+        })
+        .x_desc("instance set (number of instances every variant solved)")
+        .y_desc("mean number of actions")
+        .draw()?;
+    let w = 0.8 / variants.len() as f64;
+    for (j, v) in variants.iter().enumerate() {
+        let c = color(j);
+        let bars: Vec<Rectangle<(f64, f64)>> = means
+            .iter()
+            .enumerate()
+            .filter_map(|(i, (_, _, m))| {
+                let y = m[j]?;
+                let x0 = i as f64 + 1.0 - 0.4 + j as f64 * w;
+                Some(Rectangle::new([(x0 + 0.05 * w, 0.0), (x0 + 0.95 * w, y)], c.filled()))
+            })
+            .collect();
+        chart
+            .draw_series(bars)?
+            .label(v.clone())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 18, y + 6)], c.filled()));
+    }
+    draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+    root.present()?;
+    Ok(())
+}
