@@ -65,7 +65,7 @@ impl Enumerate<'_> {
             None => action_reach_memo(self.inst, self.placement, a, &self.ik, false),
         };
         self.reach.borrow_mut().insert(k, r.clone());
-        r.is_some_and(|r| r.free_when(&layout.state))
+        r.is_some_and(|r| r.free_when(|j| layout.state[j] == ObjState::Table))
     }
 
     fn actions(&self, layout: &Layout) -> Vec<Action> {

@@ -23,7 +23,7 @@ use super::trajectory::{
     time_segment, ActionTrajectory, KeyPose, RobotInfo, TrajPoint, TrajectoryOptions, GRIPPER_DWELL,
 };
 use super::{Arm, RobotError};
-use crate::actions::{Action, ObjState, PlaceMode};
+use crate::actions::{Action, PlaceMode};
 use crate::geometry::{Axis2, BodyAxis, PushDir, Rect};
 use crate::instance::Instance;
 use crate::placement::Placement;
@@ -822,28 +822,33 @@ pub struct Reach {
     /// the table (the open fingers, the hand or the held object would hit them during the grasp or
     /// the lift). Empty for pushes.
     pub table_blockers: Vec<Vec<usize>>,
-    /// Aligned with `table_blockers`: the other objects that block the variant once they are at
-    /// their targets (the palm or the wrist, which hang below a tall neighbour's top, would hit
-    /// them during the release, the retreat or the push).
-    pub placed_blockers: Vec<Vec<usize>>,
 }
 
 impl Reach {
-    /// Whether some hand variant is free in `state`: none of its table blockers is still on the
-    /// table and none of its placed blockers is at its target.
-    pub fn free_when(&self, state: &[ObjState]) -> bool {
-        self.table_blockers.is_empty()
-            || self.table_blockers.iter().zip(&self.placed_blockers).any(|(t, p)| {
-                !t.iter().any(|&j| state[j] == ObjState::Table) && !p.iter().any(|&j| state[j] == ObjState::Done)
-            })
+    /// Whether some hand variant is free, given which objects are still on the table.
+    pub fn free_when(&self, on_table: impl Fn(usize) -> bool) -> bool {
+        self.table_blockers.is_empty() || self.table_blockers.iter().any(|b| !b.iter().any(|&j| on_table(j)))
     }
 }
 
-/// Objects whose obstacle collides with the robot along the given segments of a motion.
-fn colliding(ctx: &Ctx, solver: &IkSolver, m: &Motion, segs: &[usize], obstacles: &[(usize, Obstacle)]) -> Vec<usize> {
+/// Objects still on the table (other than the picked one) that collide with the grasp and lift
+/// lines of a place motion.
+fn blockers_of(ctx: &Ctx, solver: &IkSolver, action: &Action, m: &Motion) -> Vec<usize> {
+    let Action::Place { object, .. } = action else {
+        return Vec::new();
+    };
     let inst = ctx.inst;
+    let here = &inst.objects[*object].table;
+    let near: Vec<(usize, Obstacle)> = (0..inst.n())
+        .filter(|&j| j != *object)
+        .filter(|&j| {
+            let c = &inst.objects[j].table;
+            (c.x - here.x).hypot(c.y - here.y) < 0.25
+        })
+        .map(|j| (j, object_on_table(inst, j)))
+        .collect();
     let mut out = Vec::new();
-    for &seg in segs {
+    for seg in 1..=2 {
         let hand = Hand {
             opening: m.specs[seg - 1].opening,
             held: m.specs[seg - 1].held,
@@ -851,7 +856,7 @@ fn colliding(ctx: &Ctx, solver: &IkSolver, m: &Motion, segs: &[usize], obstacles
         for leg in &m.segments[seg] {
             for q in densify(leg) {
                 let parts = robot_parts(&inst.robot.model, inst, solver.arm(), &q, &hand);
-                for (j, o) in obstacles {
+                for (j, o) in &near {
                     if !out.contains(j) && first_collision(&parts, std::slice::from_ref(o), |_, _| false).is_some() {
                         out.push(*j);
                     }
@@ -861,36 +866,6 @@ fn colliding(ctx: &Ctx, solver: &IkSolver, m: &Motion, segs: &[usize], obstacles
     }
     out.sort_unstable();
     out
-}
-
-/// Objects still on the table (other than the picked one) that collide with the grasp and lift
-/// lines of a place motion, and objects at their targets (other than the moved ones) that
-/// collide with the lines in the container.
-fn blockers_of(ctx: &Ctx, solver: &IkSolver, action: &Action, m: &Motion) -> (Vec<usize>, Vec<usize>) {
-    let inst = ctx.inst;
-    let moved = action.objects();
-    let placed: Vec<(usize, Obstacle)> = (0..inst.n())
-        .filter(|j| !moved.contains(j))
-        .map(|j| {
-            let t = &ctx.placement.targets[j];
-            (j, object_in_container(inst, j, &t.rect, t.height))
-        })
-        .collect();
-    match action {
-        Action::Place { object, .. } => {
-            let here = &inst.objects[*object].table;
-            let near: Vec<(usize, Obstacle)> = (0..inst.n())
-                .filter(|&j| j != *object)
-                .filter(|&j| {
-                    let c = &inst.objects[j].table;
-                    (c.x - here.x).hypot(c.y - here.y) < 0.25
-                })
-                .map(|j| (j, object_on_table(inst, j)))
-                .collect();
-            (colliding(ctx, solver, m, &[1, 2], &near), colliding(ctx, solver, m, &[4, 5], &placed))
-        }
-        Action::Push { .. } => (Vec::new(), colliding(ctx, solver, m, &[1, 2, 3], &placed)),
-    }
 }
 
 /// The action planner's predicate for `action` with its own arm, from the arm's home pose: every
@@ -937,27 +912,22 @@ pub fn action_reach_memo(
         held: None,
     };
     let mut cost = f64::INFINITY;
-    let mut variants: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
+    let mut table_blockers = Vec::new();
     for f in hand_variants(action) {
         let sp = specs(inst, placement, action, *f, &mut Vec::new());
         if let Ok(m) = plan_variant(&ctx, &solver, action, sp, &home, hand) {
             cost = cost.min(m.cost);
             let b = blockers_of(&ctx, &solver, action, &m);
-            let free = b.0.is_empty() && b.1.is_empty();
-            if !variants.contains(&b) {
-                variants.push(b);
+            let free = b.is_empty();
+            if !table_blockers.contains(&b) {
+                table_blockers.push(b);
             }
             if free && first_free {
                 break;
             }
         }
     }
-    let (table_blockers, placed_blockers) = variants.into_iter().unzip();
-    cost.is_finite().then_some(Reach {
-        cost,
-        table_blockers,
-        placed_blockers,
-    })
+    cost.is_finite().then_some(Reach { cost, table_blockers })
 }
 
 /// Whether the action's arm can execute `action` when no other object is in the way (see

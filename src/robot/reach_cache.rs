@@ -123,10 +123,9 @@ impl<'a> ReachCache<'a> {
         self.with(a, |r| r.is_some())
     }
 
-    /// [`Self::ok`], and no object still on the table or already at its target in `state`
-    /// blocks the action (see [`Reach::free_when`]).
+    /// [`Self::ok`], and no object still on the table in `state` blocks the pick.
     pub fn ok_when(&self, a: &Action, state: &[ObjState]) -> bool {
-        self.with(a, |r| r.is_some_and(|r| r.free_when(state)))
+        self.with(a, |r| r.is_some_and(|r| r.free_when(|j| state[j] == ObjState::Table)))
     }
 
     /// [`Self::ok_when`] in the state of `layout`.

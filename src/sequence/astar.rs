@@ -20,7 +20,7 @@ use super::{metrics, SearchStatus, SequenceOptions, SequenceResult};
 use crate::actions::{push, Action, Layout, ObjState, PlaceMode};
 use crate::control::Terminator;
 use crate::error::{Error, Result};
-use crate::geometry::{Axis2, PushDir, Rect, EPS};
+use crate::geometry::{Axis2, PushDir, EPS};
 use crate::instance::Instance;
 use crate::placement::Placement;
 use crate::robot::keypoints::{action_keypoints, path_length, pick_arm, transfer_z};
@@ -39,9 +39,7 @@ use std::time::Instant;
 /// A* settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AstarSettings {
-    /// Largest indirect offset as a multiple of the minimum offset `d`; 0 (the default) picks
-    /// the larger of 3 and the longest line of touching targets, so that every staggered line of
-    /// the paper's Algorithm 1 (offsets `d, 2d, …` along the line) is in the action space.
+    /// Largest indirect offset as a multiple of the minimum offset `d` (default 3).
     pub max_offset_steps: usize,
     /// Node budget of the greedy dive that provides the first incumbent (default 20,000).
     pub dive_nodes: u64,
@@ -50,7 +48,7 @@ pub struct AstarSettings {
 impl Default for AstarSettings {
     fn default() -> Self {
         AstarSettings {
-            max_offset_steps: 0,
+            max_offset_steps: 3,
             dive_nodes: 20_000,
         }
     }
@@ -830,32 +828,6 @@ fn path_to(graph: &DiGraph<Node, (Action, Option<f64>)>, node: NodeIndex) -> Vec
     path
 }
 
-/// Number of objects in the longest line of targets that touch one after the other along x or
-/// along y (overlapping across the axis): the most objects one push can move.
-pub fn longest_line(placement: &Placement) -> usize {
-    let t: Vec<Rect> = placement.targets.iter().map(|t| t.rect).collect();
-    let mut best = usize::from(!t.is_empty());
-    for axis in [Axis2::X, Axis2::Y] {
-        let other = axis.other();
-        let mut idx: Vec<usize> = (0..t.len()).collect();
-        idx.sort_by(|&a, &b| t[a].lo(axis).total_cmp(&t[b].lo(axis)));
-        // Longest chain ending at each object (targets are disjoint, so chains go up the axis).
-        let mut len = vec![1usize; t.len()];
-        for (k, &j) in idx.iter().enumerate() {
-            for &i in &idx[..k] {
-                let touch = (t[i].hi(axis) - t[j].lo(axis)).abs() < EPS
-                    && t[i].lo(other) < t[j].hi(other) - EPS
-                    && t[j].lo(other) < t[i].hi(other) - EPS;
-                if touch {
-                    len[j] = len[j].max(len[i] + 1);
-                }
-            }
-            best = best.max(len[j]);
-        }
-    }
-    best
-}
-
 /// Run the A* search.
 pub fn solve(
     inst: &Instance,
@@ -865,18 +837,14 @@ pub fn solve(
     stop: &dyn Terminator,
 ) -> Result<SequenceResult> {
     let start = Instant::now();
-    if settings.max_offset_steps > MAX_OFFSET_STEPS {
+    if settings.max_offset_steps == 0 || settings.max_offset_steps > MAX_OFFSET_STEPS {
         return Err(Error::input(
             "<settings>",
             "max_offset_steps",
-            format!("must be 0 (automatic) or 1..={MAX_OFFSET_STEPS}"),
+            format!("must be 1..={MAX_OFFSET_STEPS}"),
         ));
     }
-    let mut settings = *settings;
-    if settings.max_offset_steps == 0 {
-        settings.max_offset_steps = longest_line(placement).clamp(3, MAX_OFFSET_STEPS);
-    }
-    let mut s = Search::new(inst, placement, *opts, settings);
+    let mut s = Search::new(inst, placement, *opts, *settings);
     let (mx, my) = placement.extent();
     let mut root = Node {
         state: vec![ObjState::Table; inst.n()],
