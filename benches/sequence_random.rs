@@ -101,8 +101,11 @@ fn main() {
     let exp2_limit: f64 = arg(&args, "--exp2-time-limit", 60.0);
 
     if !args.iter().any(|a| a == "--no-exp2") {
-        let inst = Instance::load(format!("{}/instances/paper/exp2_8objects.toml", env!("CARGO_MANIFEST_DIR")))
-            .expect("bundled instance");
+        let inst = Instance::load(format!(
+            "{}/instances/paper/exp2_8objects.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .expect("bundled instance");
         // The placement `pushpack plan` uses by default (MILP, warm-started by Bottom-Left).
         let placement = solve_placement(
             &inst,
@@ -113,9 +116,14 @@ fn main() {
         )
         .expect("MILP")
         .placement;
-        println!("exp2_8objects (MILP placement, {:.1} cm²):", placement.occupied_area() * 1e4);
+        println!(
+            "exp2_8objects (MILP placement, {:.1} cm²):",
+            placement.occupied_area() * 1e4
+        );
         println!();
-        println!("| sequencer | actions | swept area (cm²) | travel (m) | status | nodes | median time (s) | times (s) |");
+        println!(
+            "| sequencer | actions | swept area (cm²) | travel (m) | status | nodes | median time (s) | times (s) |"
+        );
         println!("|---|---|---|---|---|---|---|---|");
         for which in &sequencers {
             let mut times = Vec::new();

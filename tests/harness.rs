@@ -32,7 +32,16 @@ fn ok(args: &[&str]) -> Output {
 fn tiny_set(dir: &Path) -> PathBuf {
     let set = dir.join("tiny");
     ok(&[
-        "generate", "--objects", "3", "--kinds", "2", "--count", "3", "--seed", "5", "--out",
+        "generate",
+        "--objects",
+        "3",
+        "--kinds",
+        "2",
+        "--count",
+        "3",
+        "--seed",
+        "5",
+        "--out",
         set.to_str().unwrap(),
     ]);
     set
@@ -149,10 +158,19 @@ fn interrupted_batch_resumes_without_repeating_or_losing_rows_and_shards_merge()
 
     // Report over the shards and the full run: duplicates are dropped, files are written.
     let rep = dir.path().join("report");
-    let o = ok(&["report", sharded.to_str().unwrap(), full.to_str().unwrap(), "--out", rep.to_str().unwrap()]);
+    let o = ok(&[
+        "report",
+        sharded.to_str().unwrap(),
+        full.to_str().unwrap(),
+        "--out",
+        rep.to_str().unwrap(),
+    ]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("summary.md"));
     let md = std::fs::read_to_string(rep.join("summary.md")).unwrap();
-    assert!(md.contains("12 rows") || md.contains("6 rows from 3 file(s), 6 duplicate"), "{md}");
+    assert!(
+        md.contains("12 rows") || md.contains("6 rows from 3 file(s), 6 duplicate"),
+        "{md}"
+    );
     assert!(md.contains("| tiny | 3 | bl+paper | 3 | 100 % |"), "{md}");
     assert!(md.contains("Table II"), "{md}");
     for f in ["time_vs_objects.svg", "cactus.svg", "ratios.svg", "table2_bl_paper.svg"] {
@@ -170,7 +188,16 @@ fn killed_batch_resumes_to_the_full_set() {
     // SIGKILL to the harness process only: the run in flight is orphaned and its row is lost
     // with the harness, which is the case resume must handle.
     let mut child = Command::new(EXE)
-        .args(["bench", set.to_str().unwrap(), "--planners", PLANNERS, "--jobs", "1", "--time-limit", "60"])
+        .args([
+            "bench",
+            set.to_str().unwrap(),
+            "--planners",
+            PLANNERS,
+            "--jobs",
+            "1",
+            "--time-limit",
+            "60",
+        ])
         .arg("--out")
         .arg(&out)
         .stdout(std::process::Stdio::null())
@@ -179,7 +206,11 @@ fn killed_batch_resumes_to_the_full_set() {
         .unwrap();
     // Wait (by polling the file, not by a timed assertion) until a row has landed or the batch ended.
     loop {
-        let rows = if jsonl.exists() { read_jsonl(&jsonl).unwrap().0.len() } else { 0 };
+        let rows = if jsonl.exists() {
+            read_jsonl(&jsonl).unwrap().0.len()
+        } else {
+            0
+        };
         if rows >= 1 || child.try_wait().unwrap().is_some() {
             break;
         }
@@ -201,13 +232,48 @@ fn bad_input_exits_2_naming_the_flag() {
     let d = dir.path().to_str().unwrap();
     for (args, needle) in [
         (vec!["bench", "instances/paper", "--planners", "bl+foo"], "--planners"),
-        (vec!["bench", "instances/paper", "--planners", "bl+paper", "--shard", "2/2"], "--shard"),
-        (vec!["bench", "instances/paper", "--planners", "bl+paper", "--jobs", "0"], "--jobs"),
-        (vec!["bench", "instances/paper", "--planners", "bl+paper", "--time-limit", "0"], "--time-limit"),
+        (
+            vec!["bench", "instances/paper", "--planners", "bl+paper", "--shard", "2/2"],
+            "--shard",
+        ),
+        (
+            vec!["bench", "instances/paper", "--planners", "bl+paper", "--jobs", "0"],
+            "--jobs",
+        ),
+        (
+            vec![
+                "bench",
+                "instances/paper",
+                "--planners",
+                "bl+paper",
+                "--time-limit",
+                "0",
+            ],
+            "--time-limit",
+        ),
         (vec!["bench", "no/such/dir", "--planners", "bl+paper"], "no/such/dir"),
-        (vec!["bench", "instances/invalid/nan_size.toml", "--planners", "bl+paper"], "nan_size.toml"),
-        (vec!["generate", "--objects", "30", "--kinds", "2", "--out", d], "--objects"),
-        (vec!["generate", "--objects", "4", "--kinds", "2", "--size-range", "0.03", "--out", d], "--size-range"),
+        (
+            vec!["bench", "instances/invalid/nan_size.toml", "--planners", "bl+paper"],
+            "nan_size.toml",
+        ),
+        (
+            vec!["generate", "--objects", "30", "--kinds", "2", "--out", d],
+            "--objects",
+        ),
+        (
+            vec![
+                "generate",
+                "--objects",
+                "4",
+                "--kinds",
+                "2",
+                "--size-range",
+                "0.03",
+                "--out",
+                d,
+            ],
+            "--size-range",
+        ),
         (vec!["report", d], "no *.jsonl"),
     ] {
         let o = run(&args);

@@ -551,7 +551,13 @@ fn turning_an_object_over_is_a_robot_issue_unless_the_cell_can_regrasp() {
     let out = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans");
     assert!(flips(&inst, &out) > 0);
     let report = pushpack::verify::verify(&inst, &out.plan);
-    assert!(report.robot_issues.iter().all(|v| !v.message.contains("cannot turn it over")), "{report}");
+    assert!(
+        report
+            .robot_issues
+            .iter()
+            .all(|v| !v.message.contains("cannot turn it over")),
+        "{report}"
+    );
 }
 
 #[test]

@@ -43,8 +43,14 @@ impl Shard {
         let (k, n) = text
             .split_once('/')
             .ok_or_else(|| bad(format!("must be K/N (e.g. 0/4), got {text:?}")))?;
-        let k: usize = k.trim().parse().map_err(|_| bad(format!("K in {text:?} is not a number")))?;
-        let n: usize = n.trim().parse().map_err(|_| bad(format!("N in {text:?} is not a number")))?;
+        let k: usize = k
+            .trim()
+            .parse()
+            .map_err(|_| bad(format!("K in {text:?} is not a number")))?;
+        let n: usize = n
+            .trim()
+            .parse()
+            .map_err(|_| bad(format!("N in {text:?} is not a number")))?;
         if n == 0 || k >= n {
             return Err(bad(format!("need 0 <= K < N, got {k}/{n} (K is 0-based)")));
         }
@@ -94,13 +100,21 @@ pub fn collect_files(paths: &[PathBuf], exts: &[&str], what: &str) -> Result<Vec
                 .collect();
             found.sort();
             if found.is_empty() {
-                return Err(Error::input(p.display().to_string(), "<directory>", format!("holds no {what}")));
+                return Err(Error::input(
+                    p.display().to_string(),
+                    "<directory>",
+                    format!("holds no {what}"),
+                ));
             }
             out.extend(found);
         } else if p.is_file() {
             out.push(p.clone());
         } else {
-            return Err(Error::input(p.display().to_string(), "<path>", "no such file or directory"));
+            return Err(Error::input(
+                p.display().to_string(),
+                "<path>",
+                "no such file or directory",
+            ));
         }
     }
     Ok(out)
@@ -245,7 +259,12 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
             format!("killed after the hard limit of {hard_limit} s"),
         );
     };
-    match stdout.lines().rev().find(|l| !l.trim().is_empty()).map(serde_json::from_str::<ResultRow>) {
+    match stdout
+        .lines()
+        .rev()
+        .find(|l| !l.trim().is_empty())
+        .map(serde_json::from_str::<ResultRow>)
+    {
         Some(Ok(r)) if status.success() => {
             row = r;
             row.wall_time_s = start.elapsed().as_secs_f64();
@@ -254,7 +273,11 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
         _ => {
             let tail: Vec<&str> = stderr.lines().rev().take(5).collect();
             let tail: Vec<&str> = tail.into_iter().rev().collect();
-            finish(row, RunStatus::Failed, format!("run process {status}: {}", tail.join(" | ")))
+            finish(
+                row,
+                RunStatus::Failed,
+                format!("run process {status}: {}", tail.join(" | ")),
+            )
         }
     }
 }

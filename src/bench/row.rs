@@ -351,8 +351,11 @@ mod tests {
     use super::*;
 
     fn sample(instance: &str, planner: &str) -> ResultRow {
-        let inst = crate::instance::Instance::load(concat!(env!("CARGO_MANIFEST_DIR"), "/instances/examples/two_boxes.toml"))
-            .expect("bundled example");
+        let inst = crate::instance::Instance::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/instances/examples/two_boxes.toml"
+        ))
+        .expect("bundled example");
         let spec = crate::bench::spec::PlannerSpec::parse(planner, "planner").expect("valid spec");
         let mut r = crate::bench::run::base_row(instance, &inst, &spec, 10.0);
         r.error = Some("boom, \"quoted\"".into());

@@ -37,7 +37,10 @@ pub fn generate_set(p: &SetParams, out: &Path) -> Result<Vec<PathBuf>> {
     }
     let mut texts = Vec::with_capacity(p.count);
     for i in 0..p.count as u64 {
-        let seed = p.seed.checked_add(i).ok_or_else(|| cli("--seed", "seed + count overflows".into()))?;
+        let seed = p
+            .seed
+            .checked_add(i)
+            .ok_or_else(|| cli("--seed", "seed + count overflows".into()))?;
         let mut gp = GenerateParams::new(p.objects, p.kinds, seed);
         if let Some(r) = p.size_range {
             gp.size_range = r;
@@ -65,7 +68,11 @@ pub fn generate_set(p: &SetParams, out: &Path) -> Result<Vec<PathBuf>> {
         // Validate in memory so a bad --container or --size-range is reported, not written.
         Instance::parse(&text, false, &name, None).map_err(|e| {
             cli(
-                if p.container.is_some() { "--container" } else { "--size-range" },
+                if p.container.is_some() {
+                    "--container"
+                } else {
+                    "--size-range"
+                },
                 format!("generated instance {name} is invalid: {e}"),
             )
         })?;
@@ -92,7 +99,11 @@ pub fn parse_numbers<const N: usize>(text: &str, field: &str) -> Result<[f64; N]
     let bad = |r: String| Error::input("<command line>", field, r);
     let v: Vec<f64> = text
         .split(',')
-        .map(|t| t.trim().parse::<f64>().map_err(|_| bad(format!("{t:?} is not a number"))))
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| bad(format!("{t:?} is not a number")))
+        })
         .collect::<Result<_>>()?;
     let arr: [f64; N] = v
         .try_into()
@@ -139,7 +150,10 @@ mod tests {
             container: None,
             size_range: None,
         };
-        assert!(generate_set(&p, d.path()).unwrap_err().to_string().contains("--objects"));
+        assert!(generate_set(&p, d.path())
+            .unwrap_err()
+            .to_string()
+            .contains("--objects"));
         p.objects = 4;
         p.container = Some([0.05, 0.05, 0.1]);
         let e = generate_set(&p, &d.path().join("x")).unwrap_err();

@@ -35,12 +35,20 @@ impl PlannerSpec {
         let placement = match parts[0] {
             "bl" => PlacementSolver::Bl,
             "milp" => PlacementSolver::Milp,
-            p => return Err(bad(format!("planner {text:?}: placement must be bl or milp, got {p:?}"))),
+            p => {
+                return Err(bad(format!(
+                    "planner {text:?}: placement must be bl or milp, got {p:?}"
+                )))
+            }
         };
         let sequencer = match parts[1] {
             "paper" => Sequencer::Paper,
             "astar" => Sequencer::Astar,
-            s => return Err(bad(format!("planner {text:?}: sequencer must be paper or astar, got {s:?}"))),
+            s => {
+                return Err(bad(format!(
+                    "planner {text:?}: sequencer must be paper or astar, got {s:?}"
+                )))
+            }
         };
         let mut spec = PlannerSpec {
             placement,
@@ -132,7 +140,10 @@ mod tests {
         for (text, canon) in [
             ("bl+paper", "bl+paper"),
             ("milp+astar", "milp+astar"),
-            (" milp + astar + no-multi-push + no-direct ", "milp+astar+no-direct+no-multi-push"),
+            (
+                " milp + astar + no-multi-push + no-direct ",
+                "milp+astar+no-direct+no-multi-push",
+            ),
             ("bl+astar+no-multi-push", "bl+astar+no-multi-push"),
         ] {
             assert_eq!(PlannerSpec::parse(text, "--planners").unwrap().to_string(), canon);

@@ -426,7 +426,10 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 kinds,
                 count,
                 seed,
-                container: container.as_deref().map(|c| parse_numbers::<3>(c, "--container")).transpose()?,
+                container: container
+                    .as_deref()
+                    .map(|c| parse_numbers::<3>(c, "--container"))
+                    .transpose()?,
                 size_range: size_range
                     .as_deref()
                     .map(|c| parse_numbers::<2>(c, "--size-range"))
@@ -450,7 +453,11 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             let time_limit = positive_time(Some(time_limit))?.expect("given");
             let hard_limit = match hard_limit {
                 Some(h) if !(h.is_finite() && h > 0.0) => {
-                    return Err(Error::input("<command line>", "--hard-limit", format!("must be positive, got {h}")))
+                    return Err(Error::input(
+                        "<command line>",
+                        "--hard-limit",
+                        format!("must be positive, got {h}"),
+                    ))
                 }
                 Some(h) => h,
                 None => 2.0 * time_limit + 30.0,

@@ -48,7 +48,11 @@ pub fn median(v: &[f64]) -> Option<f64> {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
     let m = s.len() / 2;
-    Some(if s.len() % 2 == 1 { s[m] } else { 0.5 * (s[m - 1] + s[m]) })
+    Some(if s.len() % 2 == 1 {
+        s[m]
+    } else {
+        0.5 * (s[m - 1] + s[m])
+    })
 }
 
 fn mean(v: &[f64]) -> Option<f64> {
@@ -59,7 +63,9 @@ fn mean(v: &[f64]) -> Option<f64> {
 pub fn best_per_instance(rows: &[ResultRow]) -> HashMap<String, (f64, f64)> {
     let mut best: HashMap<String, (f64, f64)> = HashMap::new();
     for r in rows.iter().filter(|r| r.solved()) {
-        let (Some(a), Some(l)) = (r.occupied_area, r.seq_len) else { continue };
+        let (Some(a), Some(l)) = (r.occupied_area, r.seq_len) else {
+            continue;
+        };
         let e = best.entry(r.instance.clone()).or_insert((f64::INFINITY, f64::INFINITY));
         e.0 = e.0.min(a);
         e.1 = e.1.min(l as f64);
@@ -195,7 +201,10 @@ pub fn summary_markdown(m: &Merged) -> String {
     let best = best_per_instance(rows);
     let mut s = String::new();
     let _ = writeln!(s, "# Benchmark summary\n");
-    let commits: BTreeSet<String> = rows.iter().map(|r| format!("{} ({})", r.tool_version, r.git_commit)).collect();
+    let commits: BTreeSet<String> = rows
+        .iter()
+        .map(|r| format!("{} ({})", r.tool_version, r.git_commit))
+        .collect();
     let limits: BTreeSet<String> = rows.iter().map(|r| format!("{} s", r.time_limit_s)).collect();
     let _ = writeln!(
         s,
@@ -263,10 +272,16 @@ the same instance, over the instances this planner solved.\n"
             let _ = writeln!(s, "\n(base planner {base})\n");
         }
     }
-    let failures: Vec<&ResultRow> = rows.iter().filter(|r| r.status != RunStatus::Ok || !r.solved()).collect();
+    let failures: Vec<&ResultRow> = rows
+        .iter()
+        .filter(|r| r.status != RunStatus::Ok || !r.solved())
+        .collect();
     if !failures.is_empty() {
         let _ = writeln!(s, "\n## Runs without a verified plan\n");
-        let _ = writeln!(s, "| instance | planner | status | verifier | error |\n|---|---|---|---|---|");
+        let _ = writeln!(
+            s,
+            "| instance | planner | status | verifier | error |\n|---|---|---|---|---|"
+        );
         for r in failures {
             let err = r.error.as_deref().unwrap_or("").replace('|', "\\|");
             let _ = writeln!(
@@ -311,7 +326,11 @@ pub fn write_report(results: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>> {
     let m = load_rows(results)?;
     if m.rows.is_empty() {
         return Err(Error::input(
-            results.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
+            results
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
             "<rows>",
             "no result rows to report",
         ));
@@ -341,8 +360,11 @@ mod tests {
     use crate::bench::{run::base_row, spec::PlannerSpec};
 
     fn row(inst: &str, planner: &str, len: Option<usize>) -> ResultRow {
-        let i = crate::instance::Instance::load(concat!(env!("CARGO_MANIFEST_DIR"), "/instances/examples/two_boxes.toml"))
-            .expect("bundled example");
+        let i = crate::instance::Instance::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/instances/examples/two_boxes.toml"
+        ))
+        .expect("bundled example");
         let mut r = base_row(inst, &i, &PlannerSpec::parse(planner, "p").expect("spec"), 5.0);
         if let Some(l) = len {
             r.status = RunStatus::Ok;

@@ -94,7 +94,12 @@ fn log_range(v: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     lo..hi
 }
 
-fn draw_legend<'a, DB: DrawingBackend + 'a, X: plotters::coord::ranged1d::Ranged, Y: plotters::coord::ranged1d::Ranged>(
+fn draw_legend<
+    'a,
+    DB: DrawingBackend + 'a,
+    X: plotters::coord::ranged1d::Ranged,
+    Y: plotters::coord::ranged1d::Ranged,
+>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     pos: SeriesLabelPosition,
 ) -> DrawResult
@@ -159,7 +164,11 @@ fn time_vs_objects(rows: &[ResultRow], names: &[String], path: &Path) -> DrawRes
 fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
     let mut series = Vec::new();
     for p in names {
-        let mut t: Vec<f64> = rows.iter().filter(|r| &r.planner == p && r.solved()).map(|r| r.wall_time_s).collect();
+        let mut t: Vec<f64> = rows
+            .iter()
+            .filter(|r| &r.planner == p && r.solved())
+            .map(|r| r.wall_time_s)
+            .collect();
         t.sort_by(f64::total_cmp);
         series.push(t);
     }
@@ -239,7 +248,10 @@ fn ratios(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
     )?;
     let panels = root.split_evenly((1, 2));
     for (pi, (panel, what)) in panels.iter().zip(["occupied area", "number of actions"]).enumerate() {
-        let all: Vec<f64> = data.iter().flat_map(|d| if pi == 0 { d.1.clone() } else { d.2.clone() }).collect();
+        let all: Vec<f64> = data
+            .iter()
+            .flat_map(|d| if pi == 0 { d.1.clone() } else { d.2.clone() })
+            .collect();
         let lo = all.iter().copied().fold(1.0f64, f64::min);
         let hi = all.iter().copied().fold(1.0f64, f64::max);
         let pad = ((hi - lo) * 0.05).max(0.02);

@@ -676,7 +676,11 @@ fn plan_variant(
         let from = solver.fk(&q);
         let legs: Vec<Vec<[f64; 6]>> = match sp.mv {
             Move::Line => {
-                let tol = if ctx.fast_ik { PREDICATE_LINE_TOLERANCE } else { LINE_TOLERANCE };
+                let tol = if ctx.fast_ik {
+                    PREDICATE_LINE_TOLERANCE
+                } else {
+                    LINE_TOLERANCE
+                };
                 let p = IkMemo::get(
                     ctx.memo,
                     || key_bits(2, solver.arm(), &[&from, &sp.target], Some(&q), &[tol]),
@@ -1172,7 +1176,7 @@ pub fn plan_trajectories(
             other: idle_obstacles(other, &q_cur[other.index()], &hand_cur[other.index()]),
             scope: Scope::Full,
             fast_ik: false,
-        memo: None,
+            memo: None,
         };
         let solver = &solvers[arm.index()];
         // An idle arm whose hand hangs over the container is in the way of every action there:

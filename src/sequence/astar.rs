@@ -958,7 +958,10 @@ pub fn solve(
             let gnode = s.goal_of(&n);
             // A complete plan: the new incumbent if it is better, so that a search stopped by
             // its limit returns it and pruning tightens at once.
-            if incumbent.as_ref().is_none_or(|(c, _)| gnode.g.cmp_lex(c) == Ordering::Less) {
+            if incumbent
+                .as_ref()
+                .is_none_or(|(c, _)| gnode.g.cmp_lex(c) == Ordering::Less)
+            {
                 incumbent = Some((gnode.g, path_to(&graph, node)));
             }
             let gi = graph.add_node(gnode.clone());

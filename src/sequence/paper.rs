@@ -282,7 +282,11 @@ impl<'a> Dfs<'a> {
                         grasp_axis: ax,
                         arm: *arm,
                     };
-                    layout.check(&a).ok().filter(|_| self.reach.ok_in(&a, layout)).map(|m| (a, m))
+                    layout
+                        .check(&a)
+                        .ok()
+                        .filter(|_| self.reach.ok_in(&a, layout))
+                        .map(|m| (a, m))
                 })
             }
             Item::Push(a) => layout
