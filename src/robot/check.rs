@@ -278,7 +278,7 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
             }
         }
         // Collisions at every point and half-way between points.
-        let other = if arm == Arm::Left { Arm::Right } else { Arm::Left };
+        let other = arm.other();
         let other_obs = idle_arm(inst, other, &q_cur[other.index()], opening[other.index()]);
         let openings: Vec<f64> = tr.key_poses.iter().map(|k| k.opening).collect();
         let mut reported = 0;

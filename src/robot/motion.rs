@@ -1143,7 +1143,7 @@ pub fn plan_trajectories(
     };
     for (k, action) in actions.iter().enumerate() {
         let arm = action.arm();
-        let other = if arm == Arm::Left { Arm::Right } else { Arm::Left };
+        let other = arm.other();
         let label = action_label(inst, action);
         let mut notes = Vec::new();
         let record_err = |e: String, notes: Vec<String>, t: f64| ActionTrajectory {
@@ -1284,7 +1284,7 @@ pub fn plan_trajectories(
         if q_cur[arm.index()] == home {
             continue;
         }
-        let other = if arm == Arm::Left { Arm::Right } else { Arm::Left };
+        let other = arm.other();
         let res = home_move(
             inst,
             placement,
