@@ -222,12 +222,14 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
                     kissue(format!("joint limit: {e}"));
                 }
                 let fk = model.tcp_pose(arm, &q, &inst.robot.tcp_offset);
-                let rec = Isometry3::from_parts(
-                    Translation3::from(Vector3::from(kp.position)),
-                    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix(&Matrix3::from_fn(|i, j| {
-                        kp.rotation[i][j]
-                    }))),
-                );
+                let rot = match recorded_rotation(&kp.rotation) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        kissue(e);
+                        continue;
+                    }
+                };
+                let rec = Isometry3::from_parts(Translation3::from(Vector3::from(kp.position)), rot);
                 let (dp, dr) = pose_residual(&fk, &rec);
                 if dp > FK_POSITION_TOL || dr > FK_ROTATION_TOL {
                     kissue(format!(
@@ -345,4 +347,50 @@ pub fn arm_trajectories(plan: &Plan, arm: Arm) -> Vec<&ActionTrajectory> {
     let mut v: Vec<&ActionTrajectory> = plan.trajectories.iter().filter(|t| t.arm == arm).collect();
     v.sort_by(|a, b| a.t_start.total_cmp(&b.t_start));
     v
+}
+
+/// A recorded rotation matrix as a rotation, or why it is not one. Taken as it is once it is
+/// orthonormal with determinant +1: `Rotation3::from_matrix` re-orthonormalises iteratively
+/// from the identity and lands on the wrong rotation for a hand turned by π (a correct record
+/// was reported 3.14 rad away from its own joints' forward kinematics).
+fn recorded_rotation(r: &[[f64; 3]; 3]) -> Result<UnitQuaternion<f64>, String> {
+    let m = Matrix3::from_fn(|i, j| r[i][j]);
+    let orth = (m.transpose() * m - Matrix3::identity()).amax();
+    let det = m.determinant();
+    if !(orth <= 1e-6 && det > 0.0) {
+        return Err(format!(
+            "rotation is not a rotation matrix (|RᵀR − I| = {orth:.1e}, det = {det:.3})"
+        ));
+    }
+    Ok(UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+        m,
+    )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
+        std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
+    }
+
+    #[test]
+    fn a_tool_turned_by_pi_reads_back_exactly() {
+        // Top-down tool (tool z along world −z) at yaws near π: a half-turn from the identity.
+        for yaw in [std::f64::consts::PI, std::f64::consts::PI - 1e-3, 3.0] {
+            let truth = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, yaw);
+            let back = recorded_rotation(&rows(truth.to_rotation_matrix().matrix())).unwrap();
+            assert!(back.angle_to(&truth) < 1e-12, "yaw {yaw}: {}", back.angle_to(&truth));
+        }
+    }
+
+    #[test]
+    fn a_non_rotation_is_refused() {
+        let mut m = rows(&Matrix3::identity());
+        m[0][0] = 1.1;
+        assert!(recorded_rotation(&m).unwrap_err().contains("not a rotation"));
+        let mirror = rows(&Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0)));
+        assert!(recorded_rotation(&mirror).is_err());
+    }
 }
