@@ -25,6 +25,20 @@ pub enum Error {
         /// The underlying I/O error.
         source: std::io::Error,
     },
+    /// A search hit its node or time limit before it had found any plan. Nothing is proven:
+    /// a larger limit may find one. (A search stopped *with* a plan is not an error; its
+    /// result carries the status.)
+    #[error("{stage} stopped by its {limit} after {nodes} nodes ({elapsed_s:.1} s) before any plan was found")]
+    Stopped {
+        /// The stage that stopped (`"sequence (astar)"`, `"sequence (paper)"`).
+        stage: String,
+        /// `"time limit"` or `"node limit"`.
+        limit: String,
+        /// Nodes expanded before the stop.
+        nodes: u64,
+        /// Seconds spent in the stage.
+        elapsed_s: f64,
+    },
     /// The instance is valid, but no plan satisfying every constraint exists within the search.
     #[error("no feasible plan: {reason}")]
     Infeasible {

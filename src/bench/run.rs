@@ -95,9 +95,8 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
     match result {
         Err(p) => row.error = Some(format!("panic: {}", panic_message(p.as_ref()))),
         Ok(Err(e)) => {
-            // The sequencers report "stopped by the time limit before any plan" only in the
-            // text of Error::Infeasible; such a run ran out of time, it did not prove anything.
-            if matches!(&e, crate::error::Error::Infeasible { reason } if reason.contains("(TimeLimit)")) {
+            // A run stopped before any plan ran out of time (or nodes); it proved nothing.
+            if matches!(&e, crate::error::Error::Stopped { .. }) {
                 row.status = RunStatus::Timeout;
             }
             row.error = Some(e.to_string());

@@ -148,3 +148,15 @@ pub fn total_travel(inst: &Instance, placement: &Placement, actions: &[Action]) 
     }
     total
 }
+
+/// Arms that may push a line whose back object is `back`, in order of preference: the arm that
+/// picked it (its hand is already over the container), then the other allowed arm. Pushes
+/// happen inside the container, which both arms reach, so either may be the one that can.
+pub fn push_arms(inst: &Instance, back: usize) -> Vec<Arm> {
+    let first = pick_arm(inst, back);
+    let mut arms = vec![first];
+    if inst.robot.arms.contains(&first.other()) {
+        arms.push(first.other());
+    }
+    arms
+}

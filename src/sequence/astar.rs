@@ -3,8 +3,8 @@
 //!
 //! A state is where every object is (table / released with a push direction and offset / at its
 //! target) and where each arm's TCP is. Edges are the feasible actions of SPEC §5 in that state:
-//! place direct, place indirect with a direction and an offset `m·d` (`m = 1..=max_offset_steps`),
-//! push any line of released objects whose targets touch along the push direction. The cost is
+//! place direct, place indirect with a direction and an offset `m·d` (`m = 1..=max(max_offset_steps,
+//! rank)`, where the rank is the length of the longest line ending at the object), push any line of released objects whose targets touch along the push direction. The cost is
 //! the lexicographic triple (actions, swept area, travel): actions and travel add up along a
 //! path, swept area is a running maximum. The heuristic bounds each component from below
 //! (docs/algorithms.md), which bounds the triple lexicographically, so the first goal popped is
@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{Axis2, PushDir, EPS};
 use crate::instance::Instance;
 use crate::placement::Placement;
-use crate::robot::keypoints::{action_keypoints, path_length, pick_arm, transfer_z};
+use crate::robot::keypoints::{action_keypoints, path_length, pick_arm, push_arms, transfer_z};
 use crate::robot::Arm;
 use nalgebra::Vector3;
 use petgraph::graph::{DiGraph, NodeIndex};
@@ -39,7 +39,8 @@ use std::time::Instant;
 /// A* settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AstarSettings {
-    /// Largest indirect offset as a multiple of the minimum offset `d` (default 3).
+    /// Largest indirect offset as a multiple of the minimum offset `d` (default 3). An object
+    /// that is the k-th of a line may also use offsets up to `k·d`, the paper's staggering.
     pub max_offset_steps: usize,
     /// Node budget of the greedy dive that provides the first incumbent (default 20,000).
     pub dive_nodes: u64,
@@ -169,8 +170,9 @@ struct Search<'a> {
     inst: &'a Instance,
     placement: &'a Placement,
     opts: SequenceOptions,
-    settings: AstarSettings,
     info: Vec<ObjectInfo>,
+    /// Largest offset step per object and push direction (indexed like [`PushDir::ALL`]).
+    steps: Vec<[usize; 2]>,
     home: [Vector3<f64>; 2],
     /// Container floor at transfer height, as a world-frame rectangle test (min distance).
     container_corners: [Vector3<f64>; 4],
@@ -324,12 +326,16 @@ impl<'a> Search<'a> {
             let p = inst.container.to_world([x, y, 0.0]);
             Vector3::new(p.x, p.y, zt)
         });
+        let ranks = PushDir::ALL.map(|dir| line_rank(placement, dir));
+        let steps = (0..inst.n())
+            .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
+            .collect();
         Search {
             inst,
             placement,
             opts,
-            settings,
             info,
+            steps,
             home: [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)],
             container_corners,
             push_vertical: 2.0 * (zt - (inst.container.floor_z + g.push_height)),
@@ -537,7 +543,7 @@ impl<'a> Search<'a> {
         // Travel: each remaining place's own vertical and transfer moves, its approach from the
         // nearest possible predecessor, each push's vertical moves and distance, and going home.
         let d = inst.gripper.min_offset;
-        let max_off = d * self.settings.max_offset_steps as f64;
+        let max_off = d * self.steps.iter().flatten().copied().max().unwrap_or(1) as f64;
         let mut travel = 0.0;
         for &i in &table {
             let inf = &self.info[i];
@@ -609,8 +615,8 @@ impl<'a> Search<'a> {
             if !self.opts.no_direct {
                 modes.push(PlaceMode::Direct);
             }
-            for dir in PushDir::ALL {
-                for m in 1..=self.settings.max_offset_steps {
+            for (k, dir) in PushDir::ALL.into_iter().enumerate() {
+                for m in 1..=self.steps[i][k] {
                     modes.push(PlaceMode::Indirect {
                         push_dir: dir,
                         offset: d * m as f64,
@@ -658,8 +664,16 @@ impl<'a> Search<'a> {
                     distance: offset,
                     arm: pick_arm(inst, back),
                 };
+                // The layout check does not depend on the arm; each arm is its own successor
+                // because the arms' positions, and so the travel, differ.
                 if let Some(m) = self.check(&layout, &a) {
-                    out.push((a, m));
+                    for arm in push_arms(inst, back) {
+                        let mut a = a.clone();
+                        if let Action::Push { arm: slot, .. } = &mut a {
+                            *slot = arm;
+                        }
+                        out.push((a, m));
+                    }
                 }
             }
         }
@@ -788,6 +802,28 @@ fn component_map(placement: &Placement, open: &[usize], dir: PushDir) -> Vec<usi
         }
     }
     (0..parent.len()).map(|i| find(&mut parent, i)).collect()
+}
+
+/// For every object, the length of the longest line (as in [`lines`]) that ends at it: the
+/// paper's staggered releases put the k-th object of a line at offset `k·d`, so an object may
+/// need offsets up to its rank whatever the configured step limit.
+pub fn line_rank(placement: &Placement, dir: PushDir) -> Vec<usize> {
+    let axis = dir.axis();
+    let lat = axis.other();
+    let t = |i: usize| placement.targets[i].rect;
+    let n = placement.targets.len();
+    // Front to back: a line's objects have strictly increasing `lo` along the axis.
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| t(a).lo(axis).total_cmp(&t(b).lo(axis)));
+    let mut rank = vec![1; n];
+    for (k, &b) in order.iter().enumerate() {
+        for &a in &order[..k] {
+            if (t(b).lo(axis) - t(a).hi(axis)).abs() <= EPS && t(a).overlap_on(&t(b), lat) > EPS {
+                rank[b] = rank[b].max(rank[a] + 1);
+            }
+        }
+    }
+    rank
 }
 
 /// Every line (front to back, consecutive targets touching along `dir` with lateral overlap)
@@ -1039,12 +1075,11 @@ pub fn solve(
         None => incumbent.take(),
     };
     let Some((cost, path)) = plan else {
+        if status != SearchStatus::Complete {
+            return Err(status.no_plan("sequence (astar)", nodes, start.elapsed().as_secs_f64()));
+        }
         return Err(Error::Infeasible {
-            reason: if status == SearchStatus::Complete {
-                "no order of feasible actions packs every object".into()
-            } else {
-                format!("search stopped ({status:?}) after {nodes} nodes before any plan was found")
-            },
+            reason: "no order of feasible actions packs every object".into(),
         });
     };
     let bound = if goal.is_some() {

@@ -25,6 +25,22 @@ pub enum SearchStatus {
     TimeLimit,
 }
 
+impl SearchStatus {
+    /// The error of a search that stopped with this status before it had any plan.
+    pub(crate) fn no_plan(self, stage: &str, nodes: u64, elapsed_s: f64) -> crate::error::Error {
+        crate::error::Error::Stopped {
+            stage: stage.into(),
+            limit: match self {
+                SearchStatus::NodeLimit => "node limit",
+                _ => "time limit",
+            }
+            .into(),
+            nodes,
+            elapsed_s,
+        }
+    }
+}
+
 /// Options shared by every sequencer.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SequenceOptions {

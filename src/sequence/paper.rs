@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{PushDir, EPS};
 use crate::instance::Instance;
 use crate::placement::Placement;
-use crate::robot::keypoints::{action_keypoints, path_length, pick_arm};
+use crate::robot::keypoints::{action_keypoints, path_length, pick_arm, push_arms};
 use crate::robot::Arm;
 use nalgebra::Vector3;
 use std::collections::HashMap;
@@ -163,8 +163,36 @@ fn build(
     })
 }
 
-/// Algorithm 1: every candidate of the assignment space.
-pub fn candidates(inst: &Instance, placement: &Placement, opts: &SequenceOptions) -> Vec<Candidate> {
+impl Candidate {
+    /// Exact identity of a candidate (bit patterns of its lengths), for duplicate detection.
+    fn key(&self) -> Vec<u64> {
+        let mut k = Vec::with_capacity(3 * self.places.len() + 4 * self.pushes.len() + 2);
+        for (i, mode) in &self.places {
+            k.push(*i as u64);
+            match mode {
+                PlaceMode::Direct => k.extend([0, 0]),
+                PlaceMode::Indirect { push_dir, offset } => {
+                    k.extend([1 + *push_dir as u64, offset.to_bits()]);
+                }
+            }
+        }
+        k.push(u64::MAX);
+        for (line, dir, dist, at) in &self.pushes {
+            k.extend(line.iter().map(|&i| i as u64));
+            k.extend([u64::MAX - 1 - *dir as u64, dist.to_bits(), at.to_bits()]);
+        }
+        k
+    }
+}
+
+/// Algorithm 1: every candidate of the assignment space, or `None` if `stop` fired first (the
+/// space has `3^N` assignments: minutes at ten objects).
+pub fn candidates(
+    inst: &Instance,
+    placement: &Placement,
+    opts: &SequenceOptions,
+    stop: &dyn Terminator,
+) -> Option<Vec<Candidate>> {
     let n = inst.n();
     let mut choices = Vec::new();
     if !opts.no_direct {
@@ -188,11 +216,17 @@ pub fn candidates(inst: &Instance, placement: &Placement, opts: &SequenceOptions
         })
         .collect();
     let mut out = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     let mut idx = vec![0usize; n];
     if options.iter().any(|o| o.is_empty()) {
-        return out;
+        return Some(out);
     }
+    let mut count = 0u64;
     loop {
+        count += 1;
+        if count % 256 == 0 && stop.should_stop() {
+            return None;
+        }
         let assign: Vec<Choice> = (0..n).map(|i| options[i][idx[i]]).collect();
         let direct: Vec<usize> = (0..n).filter(|&i| assign[i] == Choice::Direct).collect();
         // Lines per direction, in two variants: greedy stable multi-pushes, and all singles.
@@ -222,7 +256,9 @@ pub fn candidates(inst: &Instance, placement: &Placement, opts: &SequenceOptions
         }
         for v in &variants {
             if let Some(c) = build(inst, placement, &direct, v) {
-                if !out.contains(&c) {
+                // A hash set, not `out.contains`: the linear scan made Algorithm 1 quadratic in
+                // the number of candidates (minutes at ten objects).
+                if seen.insert(c.key()) {
                     out.push(c);
                 }
             }
@@ -231,7 +267,7 @@ pub fn candidates(inst: &Instance, placement: &Placement, opts: &SequenceOptions
         let mut k = 0;
         loop {
             if k == n {
-                return out;
+                return Some(out);
             }
             idx[k] += 1;
             if idx[k] < options[k].len() {
@@ -381,7 +417,9 @@ pub fn solve(
     stop: &dyn Terminator,
 ) -> Result<SequenceResult> {
     let start = Instant::now();
-    let mut cands = candidates(inst, placement, opts);
+    let Some(mut cands) = candidates(inst, placement, opts, stop) else {
+        return Err(SearchStatus::TimeLimit.no_plan("sequence (paper, Algorithm 1)", 0, start.elapsed().as_secs_f64()));
+    };
     if cands.is_empty() {
         return Err(Error::Infeasible {
             reason: "no packing-action assignment keeps every release inside the container".into(),
@@ -414,14 +452,19 @@ pub fn solve(
                 .map(|&(i, m)| Item::Place(i, m, pick_arm(inst, i)))
                 .collect();
             for (line, dir, dist, at) in &c.pushes {
-                let arm = pick_arm(inst, *line.last().expect("non-empty line"));
-                items.push(Item::Push(Action::Push {
+                let mk = |arm| Action::Push {
                     objects: line.clone(),
                     push_dir: *dir,
                     distance: *dist,
                     pusher_at: *at,
                     arm,
-                }));
+                };
+                // The paper fixes one arm per action: the picking arm, or the other one when
+                // only it reaches the push (a push's reach does not depend on the state, so the
+                // choice is the same in every order).
+                let arms = push_arms(inst, *line.last().expect("non-empty line"));
+                let arm = arms.iter().copied().find(|&arm| reach.ok(&mk(arm))).unwrap_or(arms[0]);
+                items.push(Item::Push(mk(arm)));
             }
             let mut dfs = Dfs {
                 reach: &reach,
@@ -462,9 +505,7 @@ pub fn solve(
             });
         }
         if status != SearchStatus::Complete {
-            return Err(Error::Infeasible {
-                reason: format!("search stopped ({status:?}) after {nodes} nodes before any feasible order was found"),
-            });
+            return Err(status.no_plan("sequence (paper)", nodes, start.elapsed().as_secs_f64()));
         }
         g = h;
     }
