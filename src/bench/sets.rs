@@ -21,6 +21,9 @@ pub struct SetParams {
     pub container: Option<[f64; 3]>,
     /// Range of the horizontal box edges (m); default 0.030–0.060.
     pub size_range: Option<[f64; 2]>,
+    /// `any` (default: the placement may lay a box on any face) or `upright` (each box keeps
+    /// its table face down, so a top-down grasp can execute every plan without regrasping).
+    pub orientations: Option<String>,
 }
 
 /// File name of instance `seed` of a set: `n08_k4_s0003.toml`.
@@ -42,6 +45,9 @@ pub fn generate_set(p: &SetParams, out: &Path) -> Result<Vec<PathBuf>> {
             .checked_add(i)
             .ok_or_else(|| cli("--seed", "seed + count overflows".into()))?;
         let mut gp = GenerateParams::new(p.objects, p.kinds, seed);
+        if let Some(o) = &p.orientations {
+            gp.orientations = o.clone();
+        }
         if let Some(r) = p.size_range {
             gp.size_range = r;
         }
@@ -128,6 +134,7 @@ mod tests {
             seed: 10,
             container: None,
             size_range: Some([0.03, 0.05]),
+            orientations: None,
         };
         let a = generate_set(&p, &d.path().join("a")).unwrap();
         let b = generate_set(&p, &d.path().join("b")).unwrap();
@@ -140,6 +147,34 @@ mod tests {
     }
 
     #[test]
+    fn upright_sets_keep_every_box_on_its_table_face() {
+        let d = tempfile::tempdir().unwrap();
+        let mut p = SetParams {
+            objects: 6,
+            kinds: 3,
+            count: 2,
+            seed: 1,
+            container: None,
+            size_range: None,
+            orientations: Some("upright".into()),
+        };
+        for f in generate_set(&p, &d.path().join("up")).unwrap() {
+            let inst = Instance::load(&f).unwrap();
+            for o in &inst.objects {
+                assert!(o.orientations.iter().all(|q| q.up == o.table.up), "{}", f.display());
+            }
+        }
+        // The default lets at least one box of these lie on another face.
+        p.orientations = None;
+        let any = generate_set(&p, &d.path().join("any")).unwrap();
+        let inst = Instance::load(&any[0]).unwrap();
+        assert!(inst
+            .objects
+            .iter()
+            .any(|o| o.orientations.iter().any(|q| q.up != o.table.up)));
+    }
+
+    #[test]
     fn bad_parameters_name_the_flag() {
         let d = tempfile::tempdir().unwrap();
         let mut p = SetParams {
@@ -149,6 +184,7 @@ mod tests {
             seed: 0,
             container: None,
             size_range: None,
+            orientations: None,
         };
         assert!(generate_set(&p, d.path())
             .unwrap_err()

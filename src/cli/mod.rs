@@ -130,6 +130,10 @@ enum Cmd {
         /// Range of the horizontal box edges in metres (default 0.030,0.060; at most 0.060).
         #[arg(long, value_name = "MIN,MAX")]
         size_range: Option<String>,
+        /// Allowed orientations: `any` (a box may be laid on any face; plans may need a regrasp
+        /// the robot cannot do) or `upright` (boxes keep their table face down).
+        #[arg(long, default_value = "any", value_parser = ["any", "upright"])]
+        orientations: String,
     },
     /// Run planners over instance sets in parallel and append one result row per run.
     Bench {
@@ -419,6 +423,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             out,
             container,
             size_range,
+            orientations,
         } => {
             use crate::bench::sets::{generate_set, parse_numbers, SetParams};
             let p = SetParams {
@@ -434,6 +439,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                     .as_deref()
                     .map(|c| parse_numbers::<2>(c, "--size-range"))
                     .transpose()?,
+                orientations: Some(orientations),
             };
             let files = generate_set(&p, &out)?;
             println!("wrote {} instances to {}", files.len(), out.display());
