@@ -269,6 +269,15 @@ fn obj_key(state: &[ObjState], d: f64) -> Vec<u8> {
 /// Largest `max_offset_steps` the compact state key can represent.
 pub const MAX_OFFSET_STEPS: usize = 100;
 
+/// Child order of a greedy dive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum DiveOrder {
+    /// Lexicographically smallest cost bound first.
+    Bound,
+    /// Pushes first, then places nearest the container's origin corner.
+    FrontFirst,
+}
+
 /// Key of a search node: object states, then each arm's TCP (rounded to a micrometre) and
 /// whether it has moved.
 fn key(n: &Node, d: f64) -> Vec<u8> {
@@ -734,7 +743,20 @@ impl<'a> Search<'a> {
     }
 
     /// Greedy dive with bounded backtracking: the first incumbent.
-    fn dive(&self, root: &Node, budget: &mut u64) -> Option<(Cost, Vec<(Action, Option<f64>)>)> {
+    /// Order key of [`DiveOrder::FrontFirst`]: pushes first, then places by how far their
+    /// target lies from the container's origin corner (pushes go toward it, so an object
+    /// released early near the back would stand in the way of later ones).
+    fn front_key(&self, a: &Action) -> f64 {
+        match a {
+            Action::Push { .. } => f64::NEG_INFINITY,
+            Action::Place { object, .. } => {
+                let r = self.placement.targets[*object].rect;
+                r.x0 + r.y0
+            }
+        }
+    }
+
+    fn dive(&self, root: &Node, budget: &mut u64, order: DiveOrder) -> Option<(Cost, Vec<(Action, Option<f64>)>)> {
         if Self::all_done(root) {
             return Some((self.goal_of(root).g, Vec::new()));
         }
@@ -748,7 +770,14 @@ impl<'a> Search<'a> {
             .map(|(a, m)| (self.child(root, a), a.clone(), *m))
             .collect();
         // Stable sort: the grasp axes of one placement stay in order of preference.
-        kids.sort_by(|x, y| x.0.f.cmp_lex(&y.0.f));
+        match order {
+            DiveOrder::Bound => kids.sort_by(|x, y| x.0.f.cmp_lex(&y.0.f)),
+            DiveOrder::FrontFirst => kids.sort_by(|x, y| {
+                self.front_key(&x.1)
+                    .total_cmp(&self.front_key(&y.1))
+                    .then(x.0.f.cmp_lex(&y.0.f))
+            }),
+        }
         // Placements (object, mode) already dived into: another grasp axis leads to the same
         // state at the same cost.
         let mut tried: Vec<(usize, PlaceMode)> = Vec::new();
@@ -765,7 +794,7 @@ impl<'a> Search<'a> {
             if let Action::Place { object, mode, .. } = &a {
                 tried.push((*object, *mode));
             }
-            if let Some((cost, mut path)) = self.dive(&c, budget) {
+            if let Some((cost, mut path)) = self.dive(&c, budget, order) {
                 path.insert(0, (a, m));
                 return Some((cost, path));
             }
@@ -906,8 +935,16 @@ pub fn solve(
     // A first plan from a greedy dive, so that a stopped search still returns one.
     let mut budget = settings.dive_nodes;
     s.stop = Some(stop);
-    let mut incumbent = s.dive(&root, &mut budget);
+    let mut incumbent = s.dive(&root, &mut budget, DiveOrder::Bound);
+    if incumbent.is_none() {
+        // Ordered by the cost bound, the dive can spend its budget backtracking among the last
+        // few objects of a dead end; a second dive packs from the front.
+        budget = settings.dive_nodes;
+        incumbent = s.dive(&root, &mut budget, DiveOrder::FrontFirst);
+    }
     let t_dive = start.elapsed().as_secs_f64();
+    let dive_found = incumbent.is_some();
+    let dive_used = settings.dive_nodes - budget;
 
     // Phase 1: the minimum number of actions, by iterative deepening over object states.
     // Abandoned (the bound stays heuristic) if the time limit strikes.
@@ -1074,6 +1111,30 @@ pub fn solve(
         }
         None => incumbent.take(),
     };
+    // Printed before the outcome is known, so that a run stopped without a plan shows it too.
+    if let Some(p) = &s.prof {
+        let p = p.borrow();
+        eprintln!(
+            "astar profile: total {:.3}s = dive {t_dive:.3}s ({dive_used} nodes, plan: {dive_found}) + phase-1 {t_phase1:.3}s + search {:.3}s; \
+             successors {:.3}s/{} (check {:.3}s/{}, reach {:.3}s/{} with {} IK), h {:.3}s/{}, child {:.3}s/{}, \
+             memo {} states, succ cache {}",
+            start.elapsed().as_secs_f64(),
+            start.elapsed().as_secs_f64() - t_dive - t_phase1,
+            p.succ_s,
+            p.succ_n,
+            p.check_s,
+            p.check_n,
+            p.reach_s,
+            p.reach_n,
+            p.reach_miss,
+            p.h_s,
+            p.h_n,
+            p.child_s,
+            p.child_n,
+            s.len_memo.borrow().len(),
+            s.succ_cache.borrow().len(),
+        );
+    }
     let Some((cost, path)) = plan else {
         if status != SearchStatus::Complete {
             return Err(status.no_plan("sequence (astar)", nodes, start.elapsed().as_secs_f64()));
@@ -1106,29 +1167,6 @@ pub fn solve(
         }
         b
     };
-    if let Some(p) = &s.prof {
-        let p = p.borrow();
-        eprintln!(
-            "astar profile: total {:.3}s = dive {t_dive:.3}s + phase-1 {t_phase1:.3}s + search {:.3}s; \
-             successors {:.3}s/{} (check {:.3}s/{}, reach {:.3}s/{} with {} IK), h {:.3}s/{}, child {:.3}s/{}, \
-             memo {} states, succ cache {}",
-            start.elapsed().as_secs_f64(),
-            start.elapsed().as_secs_f64() - t_dive - t_phase1,
-            p.succ_s,
-            p.succ_n,
-            p.check_s,
-            p.check_n,
-            p.reach_s,
-            p.reach_n,
-            p.reach_miss,
-            p.h_s,
-            p.h_n,
-            p.child_s,
-            p.child_n,
-            s.len_memo.borrow().len(),
-            s.succ_cache.borrow().len(),
-        );
-    }
     if std::env::var_os("PUSHPACK_DEBUG").is_some() {
         eprintln!(
             "astar: root bound {root_bound:?}, result {cost:?}, incumbent from dive {:?}, {nodes} nodes",
