@@ -13,26 +13,8 @@ use pushpack::instance::generate::{random_instance, to_toml, GenerateParams};
 use pushpack::instance::Instance;
 use pushpack::placement::{bl, milp, PlacementStatus};
 
-fn arg<T: std::str::FromStr>(args: &[String], name: &str, default: T) -> T {
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        (v[n / 2 - 1] + v[n / 2]) / 2.0
-    }
-}
+mod common;
+use common::{arg, median};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -101,7 +83,7 @@ fn main() {
         println!(
             "| {n} | {count} | {proven} | {:.0} % | {:.2} | {:.2} | {} | {:.1} % |",
             100.0 * proven as f64 / count as f64,
-            median(&mut times.clone()),
+            median(&times),
             max,
             if gaps.is_empty() {
                 "–".to_string()

@@ -24,26 +24,8 @@ use pushpack::plan::{solve_placement, PlacementSolver};
 use pushpack::sequence::astar::{self, AstarSettings, Cost};
 use pushpack::sequence::{paper, SearchStatus, SequenceOptions, SequenceResult};
 
-fn arg<T: std::str::FromStr>(args: &[String], name: &str, default: T) -> T {
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        (v[n / 2 - 1] + v[n / 2]) / 2.0
-    }
-}
+mod common;
+use common::{arg, median};
 
 fn mean(v: &[f64]) -> f64 {
     if v.is_empty() {
@@ -142,7 +124,7 @@ fn main() {
                 r.metrics.travel,
                 r.status,
                 r.nodes,
-                median(&mut times),
+                median(&times),
                 all.join(", ")
             );
         }
@@ -210,9 +192,9 @@ fn main() {
             println!(
                 "| {n} | {which} | {instances} | {finished} | {:.0} % | {} | {} | {} | {}{} |",
                 100.0 * finished as f64 / instances.max(1) as f64,
-                fmt(median(&mut times), 3),
+                fmt(median(&times), 3),
                 fmt(max, 3),
-                fmt(median(&mut nodes), 0),
+                fmt(median(&nodes), 0),
                 if gaps.is_empty() {
                     "–".to_string()
                 } else {

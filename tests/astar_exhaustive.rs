@@ -148,7 +148,9 @@ fn rank(placement: &Placement, dir: PushDir, i: usize) -> usize {
 
 impl Enumerate<'_> {
     /// Reachability by inverse kinematics (memoised: it does not depend on the state), then
-    /// the objects still on the table that block the pick.
+    /// the objects still on the table that block the pick. Computed here with every hand
+    /// variant (not through `ReachCache`, which stops at the first variant free of table
+    /// blockers), so that A*'s shortcut is cross-checked too.
     fn reachable(&self, a: &Action, layout: &Layout) -> bool {
         let k = action_key(a);
         let r = match self.reach.borrow().get(&k) {

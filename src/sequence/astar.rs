@@ -666,23 +666,18 @@ impl<'a> Search<'a> {
                 let ObjState::Released { offset, .. } = state[back] else {
                     continue;
                 };
-                let a = Action::Push {
+                let mk = |arm| Action::Push {
                     pusher_at: push::centred_pusher(inst, self.placement, &line, dir),
-                    objects: line,
+                    objects: line.clone(),
                     push_dir: dir,
                     distance: offset,
-                    arm: pick_arm(inst, back),
+                    arm,
                 };
                 // The layout check does not depend on the arm; each arm is its own successor
                 // because the arms' positions, and so the travel, differ.
-                if let Some(m) = self.check(&layout, &a) {
-                    for arm in push_arms(inst, back) {
-                        let mut a = a.clone();
-                        if let Action::Push { arm: slot, .. } = &mut a {
-                            *slot = arm;
-                        }
-                        out.push((a, m));
-                    }
+                let arms = push_arms(inst, back);
+                if let Some(m) = self.check(&layout, &mk(arms[0])) {
+                    out.extend(arms.into_iter().map(|arm| (mk(arm), m)));
                 }
             }
         }
