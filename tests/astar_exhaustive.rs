@@ -9,6 +9,11 @@
 //! the future depends on nothing else, so this is Bellman's principle, not pruning. The best
 //! lexicographic (actions, swept area, travel) over all complete plans is compared with A* on
 //! all three components, and every A* plan goes through the verifier.
+//!
+//! The same instances are also solved by searches stopped early (after a fixed number of
+//! terminator queries, so the stop is deterministic): a stopped search may return a worse plan
+//! than the optimum but never a better one, and every component of its bound must lie at or
+//! below the optimum's.
 
 mod common;
 
@@ -34,13 +39,18 @@ struct Best {
 }
 
 fn better(a: &Best, b: &Best) -> bool {
+    better_by(a, b, 1e-9)
+}
+
+/// Lexicographically better, with travels closer than `tol` counted equal.
+fn better_by(a: &Best, b: &Best, tol: f64) -> bool {
     if a.len != b.len {
         return a.len < b.len;
     }
     if (a.area - b.area).abs() > 1e-12 {
         return a.area < b.area;
     }
-    a.travel < b.travel - 1e-9
+    a.travel < b.travel - tol
 }
 
 struct Enumerate<'a> {
@@ -326,6 +336,87 @@ fn exhaustive(inst: &Instance, placement: &Placement, no_direct: bool, no_multi:
     e.best(&Layout::new(inst, placement), home, [false; 2], [mx, my])
 }
 
+/// Fires on its `n`-th query: a stop at a reproducible point of the search.
+struct StopAfter {
+    n: u64,
+    asked: std::cell::Cell<u64>,
+}
+
+impl pushpack::control::Terminator for StopAfter {
+    fn should_stop(&self) -> bool {
+        self.asked.set(self.asked.get() + 1);
+        self.asked.get() >= self.n
+    }
+}
+
+fn verify_result(inst: &Instance, placement: &Placement, r: &pushpack::sequence::SequenceResult, what: &str) {
+    let mut po = PlanOptions::from_instance(inst);
+    po.placement = PlacementSolver::Bl;
+    po.sequencer = Sequencer::Astar;
+    let pr = pushpack::placement::PlacementResult {
+        placement: placement.clone(),
+        status: pushpack::placement::PlacementStatus::Feasible,
+        lower_bound: 0.0,
+        solver: "bl".into(),
+        time_s: 0.0,
+        nodes: 0,
+        subproblems: 0,
+    };
+    let plan = build_plan(inst, &po, &pr, r);
+    let report = pushpack::verify::verify(inst, &plan);
+    assert!(report.is_valid(), "{what}: {report}");
+}
+
+/// A search stopped after `n` terminator queries against the optimum `b`.
+fn check_stopped(
+    inst: &Instance,
+    placement: &Placement,
+    opts: &SequenceOptions,
+    settings: &AstarSettings,
+    b: &Best,
+    n: u64,
+    what: &str,
+) {
+    let stop = StopAfter {
+        n,
+        asked: std::cell::Cell::new(0),
+    };
+    match astar::solve(inst, placement, opts, settings, &stop) {
+        Err(pushpack::Error::Stopped { .. }) => eprintln!("{what}: stopped without a plan"),
+        Err(e) => panic!("{what}: stopped search failed: {e}"),
+        Ok(r) => {
+            let m = &r.metrics;
+            let plan = Best {
+                len: m.seq_len,
+                area: m.swept_area,
+                travel: m.travel,
+            };
+            assert!(
+                !better_by(&plan, b, 1e-6),
+                "{what}: stopped plan {plan:?} beats the optimum {b:?}"
+            );
+            let bound = r.bound.expect("A* reports a bound");
+            eprintln!("{what}: {:?}, plan {plan:?}, bound {bound:?}, optimum {b:?}", r.status);
+            assert!(bound.len <= b.len, "{what}: bound {bound:?} above the optimum {b:?}");
+            assert!(
+                bound.area <= b.area + 1e-12,
+                "{what}: bound {bound:?} above the optimum {b:?}"
+            );
+            assert!(
+                bound.travel <= b.travel + 1e-6,
+                "{what}: bound {bound:?} above the optimum {b:?}"
+            );
+            if r.status == SearchStatus::Complete {
+                assert!(
+                    !better_by(b, &plan, 1e-6),
+                    "{what}: complete but {plan:?} is worse than {b:?}"
+                );
+            }
+            verify_result(inst, placement, &r, what);
+        }
+    }
+}
+
 #[test]
 fn astar_matches_exhaustive_enumeration() {
     let mut checked = 0;
@@ -387,21 +478,18 @@ fn astar_matches_exhaustive_enumeration() {
                     m.travel,
                     b.travel
                 );
-                let mut po = PlanOptions::from_instance(&inst);
-                po.placement = PlacementSolver::Bl;
-                po.sequencer = Sequencer::Astar;
-                let pr = pushpack::placement::PlacementResult {
-                    placement: placement.clone(),
-                    status: pushpack::placement::PlacementStatus::Feasible,
-                    lower_bound: 0.0,
-                    solver: "bl".into(),
-                    time_s: 0.0,
-                    nodes: 0,
-                    subproblems: 0,
-                };
-                let plan = build_plan(&inst, &po, &pr, &r);
-                let report = pushpack::verify::verify(&inst, &plan);
-                assert!(report.is_valid(), "seed {seed}: {report}");
+                verify_result(&inst, &placement, &r, &format!("seed {seed}"));
+                // Stopped in the dive, in phase 1 and in the main search, on different seeds.
+                let n_stop = [2, 20, 200, 2000][seed as usize % 4];
+                check_stopped(
+                    &inst,
+                    &placement,
+                    &opts,
+                    &settings,
+                    &b,
+                    n_stop,
+                    &format!("seed {seed} stopped at {n_stop}"),
+                );
                 checked += 1;
             }
             (e, g) => panic!("seed {seed}: exhaustive {e:?} vs A* {:?}", g.map(|r| r.metrics)),

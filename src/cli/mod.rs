@@ -601,6 +601,17 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
         m.seq_len, m.n_place_direct, m.n_place_indirect, m.n_push, m.n_multi_push
     );
     println!("swept area {:.1} cm²   travel {:.3} m", m.swept_area * 1e4, m.travel);
+    let ss = &o.plan.solver.sequence;
+    if let Some(b) = ss.cost_bound.filter(|_| ss.status != "complete") {
+        // Stopped early: the per-component bounds the plan is measured against.
+        println!(
+            "bound      ≥ {} actions (gap {:.1} %), ≥ {:.1} cm² swept, ≥ {:.3} m travel",
+            b.len,
+            100.0 * (m.seq_len - b.len.min(m.seq_len)) as f64 / m.seq_len.max(1) as f64,
+            b.area * 1e4,
+            b.travel
+        );
+    }
     println!(
         "time       placement {:.3} s ({} nodes), sequence {:.3} s ({} nodes, {} assignments, {})",
         o.plan.solver.placement.time_s,

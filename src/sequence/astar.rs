@@ -185,9 +185,13 @@ struct Search<'a> {
     len_memo: RefCell<FxMap<Vec<u8>, (usize, usize)>>,
     /// The proven minimum number of actions, once known.
     lstar: Cell<Option<usize>>,
-    /// Time limit watched by phase 1, and whether it struck.
+    /// Time limit watched by phase 1, and whether it (or the slice deadline) struck.
     stop: Option<&'a dyn Terminator>,
     stopped: Cell<bool>,
+    /// End of the current phase-1 slice as a count of [`Search::fits`] calls (see
+    /// [`Search::fits_within`]); counted rather than timed so that a run without a time limit
+    /// is deterministic.
+    deadline: Cell<Option<u64>>,
     calls: Cell<u64>,
     prof: Option<RefCell<Prof>>,
 }
@@ -268,6 +272,20 @@ fn obj_key(state: &[ObjState], d: f64) -> Vec<u8> {
 
 /// Largest `max_offset_steps` the compact state key can represent.
 pub const MAX_OFFSET_STEPS: usize = 100;
+
+/// A plan and its cost.
+type Incumbent = (Cost, Vec<(Action, Option<f64>)>);
+
+/// Outcome of a time-boxed phase-1 question.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Fit {
+    /// A plan of this many actions (at most the budget) exists.
+    Yes(usize),
+    /// No plan fits the budget (proven).
+    No,
+    /// The slice or the time limit ended the search first.
+    Stopped,
+}
 
 /// Child order of a greedy dive.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -354,6 +372,7 @@ impl<'a> Search<'a> {
             lstar: Cell::new(None),
             stop: None,
             stopped: Cell::new(false),
+            deadline: Cell::new(None),
             calls: Cell::new(0),
             prof: std::env::var_os("PUSHPACK_PROFILE").map(|_| RefCell::new(Prof::default())),
         }
@@ -447,7 +466,9 @@ impl<'a> Search<'a> {
             return Some(0);
         }
         self.calls.set(self.calls.get() + 1);
-        if self.calls.get() % 256 == 0 && self.stop.map(|t| t.should_stop()).unwrap_or(false) {
+        if self.deadline.get().is_some_and(|d| self.calls.get() >= d)
+            || (self.calls.get() % 256 == 0 && self.stop.is_some_and(|t| t.should_stop()))
+        {
             self.stopped.set(true);
         }
         if self.stopped.get() {
@@ -468,13 +489,25 @@ impl<'a> Search<'a> {
             self.len_memo.borrow_mut().insert(k, (lo, hi));
             return None;
         }
-        for (a, _) in self.successors(state).iter() {
+        // Children with the smallest lower bound first: a refutation visits them all anyway,
+        // and a budget that fits is found sooner (top-down, the budget is loose and the first
+        // child that can use it well usually does).
+        let mut kids: Vec<(usize, Vec<ObjState>, &Action)> = Vec::new();
+        let succ = self.successors(state);
+        for (a, _) in succ.iter() {
             let mut l = self.layout(state);
             l.apply(a);
+            let lo = self.lower_len(&l.state);
+            if lo < budget {
+                kids.push((lo, l.state, a));
+            }
+        }
+        kids.sort_by_key(|k| k.0);
+        for (_, child, a) in kids {
             // Reachability (tens of ms of inverse kinematics the first time) is asked only of
             // an action that completes a plan: the children of a proof that the budget is too
             // small never are asked. The child's memo entry is a fact about its state either way.
-            if let Some(v) = self.fits(&l.state, budget - 1) {
+            if let Some(v) = self.fits(&child, budget - 1) {
                 if self.reachable(a, state) {
                     self.len_memo.borrow_mut().insert(k, (lo, v + 1));
                     return Some(v + 1);
@@ -486,6 +519,108 @@ impl<'a> Search<'a> {
         }
         self.len_memo.borrow_mut().insert(k, (lo.max(budget + 1), hi));
         None
+    }
+
+    /// The remaining-actions lower bound of `state`: the memo's, else table objects plus the
+    /// push bound.
+    fn lower_len(&self, state: &[ObjState]) -> usize {
+        if state.iter().all(|s| *s == ObjState::Done) {
+            return 0;
+        }
+        let k = obj_key(state, self.inst.gripper.min_offset);
+        if let Some(&(lo, _)) = self.len_memo.borrow().get(&k) {
+            return lo;
+        }
+        // Stored: a sibling order is asked for again on every visit of the parent.
+        let lo = state.iter().filter(|s| **s == ObjState::Table).count() + self.push_lower_bound(state).0;
+        self.len_memo.borrow_mut().insert(k, (lo, usize::MAX));
+        lo
+    }
+
+    /// [`Search::fits`] from `state`, abandoned after `calls` more calls. Facts the memo gained
+    /// before stay, so a later call with the same question resumes rather than restarts.
+    fn fits_within(&self, state: &[ObjState], budget: usize, calls: u64) -> Fit {
+        self.stopped.set(false);
+        self.deadline.set(Some(self.calls.get() + calls));
+        let r = self.fits(state, budget);
+        self.deadline.set(None);
+        match (r, self.stopped.replace(false)) {
+            (Some(v), _) => Fit::Yes(v),
+            (None, false) => Fit::No,
+            (None, true) => Fit::Stopped,
+        }
+    }
+
+    /// Whether the memo already knows a plan of at most `budget` actions from `state`.
+    fn known_fits(&self, state: &[ObjState], budget: usize) -> bool {
+        state.iter().all(|s| *s == ObjState::Done)
+            || self
+                .len_memo
+                .borrow()
+                .get(&obj_key(state, self.inst.gripper.min_offset))
+                .is_some_and(|&(_, hi)| hi <= budget)
+    }
+
+    /// A plan of at most `len` actions from `root`, read off the memo after `fits` found one:
+    /// every memo entry `hi` was stored for a reachable action into a child that fits in
+    /// `hi − 1`, so the walk never dead-ends. Among the children that fit, the smallest cost
+    /// bound goes first, so the plan is greedy in swept area and travel.
+    fn plan_from_memo(&self, root: &Node, len: usize) -> Option<Incumbent> {
+        let mut n = root.clone();
+        let mut rem = len;
+        let mut path = Vec::new();
+        while !Self::all_done(&n) {
+            let mut kids: Vec<(Node, Action, Option<f64>)> = self
+                .successors(&n.state)
+                .iter()
+                .map(|(a, m)| (self.child(&n, a), a.clone(), *m))
+                .collect();
+            kids.sort_by(|x, y| x.0.f.cmp_lex(&y.0.f));
+            let next = kids
+                .into_iter()
+                .find(|(c, a, _)| rem >= 1 && self.known_fits(&c.state, rem - 1) && self.reachable(a, &n.state));
+            let Some((c, a, m)) = next else {
+                debug_assert!(false, "memo walk dead-ended with {rem} actions left");
+                return None;
+            };
+            path.push((a, m));
+            n = c;
+            rem -= 1;
+        }
+        Some((self.goal_of(&n).g, path))
+    }
+
+    /// Top-down step of phase 1: a plan one action shorter than `inc`, looked for by
+    /// re-planning ever longer tails of it (the last action, the last two, …, the whole plan),
+    /// so that the small questions near the end, which the memo then answers at once, come
+    /// first. `Fit::No` proves that no plan is shorter than `inc`.
+    fn shorten(&self, root: &Node, inc: &[(Action, Option<f64>)], calls: u64) -> (Fit, Option<Incumbent>) {
+        let until = self.calls.get() + calls;
+        let mut nodes = vec![root.clone()];
+        for (a, _) in inc {
+            let c = self.child(nodes.last().expect("root"), a);
+            nodes.push(c);
+        }
+        let len = inc.len();
+        for k in (0..len).rev() {
+            match self.fits_within(
+                &nodes[k].state,
+                len - 1 - k,
+                until.saturating_sub(self.calls.get()).max(1),
+            ) {
+                Fit::Yes(v) => {
+                    let Some((cost, tail)) = self.plan_from_memo(&nodes[k], v) else {
+                        return (Fit::Stopped, None);
+                    };
+                    let mut path = inc[..k].to_vec();
+                    path.extend(tail);
+                    return (Fit::Yes(k + v), Some((cost, path)));
+                }
+                Fit::No => {}
+                Fit::Stopped => return (Fit::Stopped, None),
+            }
+        }
+        (Fit::No, None)
     }
 
     /// Lower bound on the pushes still needed, and the objects that need one.
@@ -509,6 +644,10 @@ impl<'a> Search<'a> {
             _ => true,
         };
         let share = |a: usize, b: usize| (0..2).any(|k| allows(a, k) && allows(b, k) && comps[k][a] == comps[k][b]);
+        if self.opts.no_multi_push {
+            // One object per push: nothing is shared.
+            return (needs_push.len(), needs_push);
+        }
         let mut independent: Vec<usize> = Vec::new();
         for &i in &needs_push {
             if independent.iter().all(|&j| !share(i, j)) {
@@ -751,7 +890,7 @@ impl<'a> Search<'a> {
         }
     }
 
-    fn dive(&self, root: &Node, budget: &mut u64, order: DiveOrder) -> Option<(Cost, Vec<(Action, Option<f64>)>)> {
+    fn dive(&self, root: &Node, budget: &mut u64, order: DiveOrder) -> Option<Incumbent> {
         if Self::all_done(root) {
             return Some((self.goal_of(root).g, Vec::new()));
         }
@@ -941,19 +1080,58 @@ pub fn solve(
     let dive_found = incumbent.is_some();
     let dive_used = settings.dive_nodes - budget;
 
-    // Phase 1: the minimum number of actions, by iterative deepening over object states.
-    // Abandoned (the bound stays heuristic) if the time limit strikes.
-    let mut lstar = first_bound.len;
-    while lstar <= 4 * inst.n() {
-        let t = s.fits(&root.state, lstar);
-        if s.stopped.get() {
-            break; // facts stored before the stop stay true
-        }
-        if t.is_some() {
-            s.lstar.set(Some(lstar));
+    // Phase 1: the minimum number of actions L*, bracketed from both sides. Bottom-up asks
+    // whether the smallest budget not yet refuted fits (each refutation is a proven lower
+    // bound); top-down asks for a plan one action shorter than the incumbent and reads it off
+    // the memo. They alternate in time slices that double every round, so a run stopped early
+    // has a better plan and a bound both, and each abandoned slice's finished sub-proofs carry
+    // over in the memo.
+    let cap = 4 * inst.n();
+    let mut len_lo = first_bound.len;
+    // Slices in calls of `fits` (about 10 µs each on the paper's instances).
+    let mut slice: u64 = 2_000;
+    let mut improved = 0usize;
+    loop {
+        let hi = incumbent.as_ref().map(|(c, _)| c.len);
+        if let Some(h) = hi.filter(|&h| len_lo >= h) {
+            s.lstar.set(Some(h)); // the incumbent's length is proven minimal
             break;
         }
-        lstar += 1;
+        if len_lo > cap {
+            break; // left to the main search
+        }
+        match s.fits_within(&root.state, len_lo, slice) {
+            Fit::Yes(v) => {
+                debug_assert_eq!(v, len_lo, "a plan shorter than a proven bound");
+                s.lstar.set(Some(len_lo));
+                if hi.is_none_or(|h| len_lo < h) {
+                    incumbent = s.plan_from_memo(&root, len_lo).or(incumbent);
+                    improved += 1;
+                }
+                break;
+            }
+            Fit::No => {
+                len_lo += 1;
+                continue;
+            }
+            Fit::Stopped if stop.should_stop() => break,
+            Fit::Stopped => {}
+        }
+        let (fit, better) = match &incumbent {
+            Some((_, path)) => s.shorten(&root, path, slice),
+            None => (s.fits_within(&root.state, cap, slice), None),
+        };
+        match fit {
+            Fit::Yes(v) => {
+                incumbent = better.or_else(|| s.plan_from_memo(&root, v)).or(incumbent);
+                improved += 1;
+                continue; // the next round asks one action less, in the same slice
+            }
+            Fit::No => len_lo = hi.map_or(cap + 1, |h| h.max(len_lo)),
+            Fit::Stopped if stop.should_stop() => break,
+            Fit::Stopped => {}
+        }
+        slice *= 2;
     }
     let t_phase1 = start.elapsed().as_secs_f64() - t_dive;
     root.f = s.f_of(&root, true);
@@ -1088,7 +1266,7 @@ pub fn solve(
         }
     }
     // Best plan: the goal popped, else the incumbent.
-    let plan: Option<(Cost, Vec<(Action, Option<f64>)>)> = match goal {
+    let plan: Option<Incumbent> = match goal {
         Some(gi) => {
             // Every node but the root has one incoming edge; the goal's is a dummy.
             let mut path = Vec::new();
@@ -1110,10 +1288,13 @@ pub fn solve(
     if let Some(p) = &s.prof {
         let p = p.borrow();
         eprintln!(
-            "astar profile: total {:.3}s = dive {t_dive:.3}s ({dive_used} nodes, plan: {dive_found}) + phase-1 {t_phase1:.3}s + search {:.3}s; \
+            "astar profile: total {:.3}s = dive {t_dive:.3}s ({dive_used} nodes, plan: {dive_found}) + phase-1 {t_phase1:.3}s \
+             (L* {:?}, proven ≥ {len_lo}, {improved} better plans, {} calls, last slice {slice}) + search {:.3}s; \
              successors {:.3}s/{} (check {:.3}s/{}, reach {:.3}s/{} with {} IK), h {:.3}s/{}, child {:.3}s/{}, \
              memo {} states, succ cache {}",
             start.elapsed().as_secs_f64(),
+            s.lstar.get(),
+            s.calls.get(),
             start.elapsed().as_secs_f64() - t_dive - t_phase1,
             p.succ_s,
             p.succ_n,
@@ -1157,9 +1338,8 @@ pub fn solve(
             area: b.area.min(f.area),
             travel: b.travel.min(f.travel),
         });
-        if let Some(l) = s.lstar.get() {
-            b.len = b.len.max(l); // proven by phase 1
-        }
+        // Proven by phase 1: L* when it finished, else every budget below `len_lo` refuted.
+        b.len = b.len.max(s.lstar.get().unwrap_or(len_lo));
         b
     };
     if std::env::var_os("PUSHPACK_DEBUG").is_some() {
