@@ -291,7 +291,7 @@ impl Box3 {
             max: [r.x1, r.y1, z1],
         }
     }
-    /// Interiors intersect by more than [`EPS`] (decided by parry3d).
+    /// Interiors intersect by more than [`EPS`].
     pub fn intersects(&self, o: &Box3) -> bool {
         parry_bridge::boxes_intersect(self, o)
     }
