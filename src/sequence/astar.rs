@@ -210,6 +210,9 @@ struct Prof {
     succ_n: u64,
     h_s: f64,
     h_n: u64,
+    /// Of those, the bounds with phase 1's exact action count (a depth-first search each).
+    hx_s: f64,
+    hx_n: u64,
     child_s: f64,
     child_n: u64,
 }
@@ -728,7 +731,11 @@ impl<'a> Search<'a> {
         if n.goal {
             return n.g;
         }
-        let h = self.timed(|p| (&mut p.h_s, &mut p.h_n), || self.h(n, exact));
+        let h = if exact {
+            self.timed(|p| (&mut p.hx_s, &mut p.hx_n), || self.h(n, exact))
+        } else {
+            self.timed(|p| (&mut p.h_s, &mut p.h_n), || self.h(n, exact))
+        };
         Cost {
             len: n.g.len + h.len,
             area: n.g.area.max(h.area),
@@ -1290,7 +1297,7 @@ pub fn solve(
         eprintln!(
             "astar profile: total {:.3}s = dive {t_dive:.3}s ({dive_used} nodes, plan: {dive_found}) + phase-1 {t_phase1:.3}s \
              (L* {:?}, proven ≥ {len_lo}, {improved} better plans, {} calls, last slice {slice}) + search {:.3}s; \
-             successors {:.3}s/{} (check {:.3}s/{}, reach {:.3}s/{} with {} IK), h {:.3}s/{}, child {:.3}s/{}, \
+             successors {:.3}s/{} (check {:.3}s/{}, reach {:.3}s/{} with {} IK), h cheap {:.3}s/{}, exact {:.3}s/{}, child {:.3}s/{}, \
              memo {} states, succ cache {}",
             start.elapsed().as_secs_f64(),
             s.lstar.get(),
@@ -1305,6 +1312,8 @@ pub fn solve(
             p.reach_miss,
             p.h_s,
             p.h_n,
+            p.hx_s,
+            p.hx_n,
             p.child_s,
             p.child_n,
             s.len_memo.borrow().len(),
