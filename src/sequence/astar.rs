@@ -883,7 +883,6 @@ impl<'a> Search<'a> {
         n.state.iter().all(|s| *s == ObjState::Done)
     }
 
-    /// Greedy dive with bounded backtracking: the first incumbent.
     /// Order key of [`DiveOrder::FrontFirst`]: pushes first, then places by how far their
     /// target lies from the container's origin corner (pushes go toward it, so an object
     /// released early near the back would stand in the way of later ones).
@@ -897,6 +896,7 @@ impl<'a> Search<'a> {
         }
     }
 
+    /// Greedy dive with bounded backtracking: the first incumbent.
     fn dive(&self, root: &Node, budget: &mut u64, order: DiveOrder) -> Option<Incumbent> {
         if Self::all_done(root) {
             return Some((self.goal_of(root).g, Vec::new()));
