@@ -210,7 +210,8 @@ struct Prof {
     succ_n: u64,
     h_s: f64,
     h_n: u64,
-    /// Of those, the bounds with phase 1's exact action count (a depth-first search each).
+    /// The bounds with phase 1's exact action count (a depth-first search each); `h_*` counts
+    /// the cheap ones.
     hx_s: f64,
     hx_n: u64,
     child_s: f64,
@@ -478,13 +479,8 @@ impl<'a> Search<'a> {
             return None; // not stored: phase 1 is abandoned
         }
         let k = obj_key(state, self.inst.gripper.min_offset);
-        let (lo, hi) = match self.len_memo.borrow().get(&k).copied() {
-            Some(v) => v,
-            None => {
-                let table = state.iter().filter(|s| **s == ObjState::Table).count();
-                (table + self.push_lower_bound(state).0, usize::MAX)
-            }
-        };
+        let known = self.len_memo.borrow().get(&k).copied();
+        let (lo, hi) = known.unwrap_or_else(|| (self.lower_len(state), usize::MAX));
         if hi <= budget {
             return Some(hi);
         }
@@ -637,6 +633,10 @@ impl<'a> Search<'a> {
                 ObjState::Done => false,
             })
             .collect();
+        if self.opts.no_multi_push {
+            // One object per push: nothing is shared.
+            return (needs_push.len(), needs_push);
+        }
         let open: Vec<usize> = (0..inst.n()).filter(|&i| state[i] != ObjState::Done).collect();
         let comps: Vec<Vec<usize>> = PushDir::ALL
             .iter()
@@ -647,10 +647,6 @@ impl<'a> Search<'a> {
             _ => true,
         };
         let share = |a: usize, b: usize| (0..2).any(|k| allows(a, k) && allows(b, k) && comps[k][a] == comps[k][b]);
-        if self.opts.no_multi_push {
-            // One object per push: nothing is shared.
-            return (needs_push.len(), needs_push);
-        }
         let mut independent: Vec<usize> = Vec::new();
         for &i in &needs_push {
             if independent.iter().all(|&j| !share(i, j)) {
@@ -731,11 +727,12 @@ impl<'a> Search<'a> {
         if n.goal {
             return n.g;
         }
-        let h = if exact {
-            self.timed(|p| (&mut p.hx_s, &mut p.hx_n), || self.h(n, exact))
+        let slot: fn(&mut Prof) -> (&mut f64, &mut u64) = if exact {
+            |p| (&mut p.hx_s, &mut p.hx_n)
         } else {
-            self.timed(|p| (&mut p.h_s, &mut p.h_n), || self.h(n, exact))
+            |p| (&mut p.h_s, &mut p.h_n)
         };
+        let h = self.timed(slot, || self.h(n, exact));
         Cost {
             len: n.g.len + h.len,
             area: n.g.area.max(h.area),
