@@ -1122,6 +1122,9 @@ pub fn solve(
             Fit::Stopped => {}
         }
         let (fit, better) = match &incumbent {
+            // One above the proven bound, "one action shorter" is the bottom-up question
+            // again: asking it a second way would only halve the slice the proof gets.
+            Some((c, _)) if c.len == len_lo + 1 => (Fit::Stopped, None),
             Some((_, path)) => s.shorten(&root, path, slice),
             None => (s.fits_within(&root.state, cap, slice), None),
         };
