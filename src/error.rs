@@ -4,6 +4,11 @@
 
 use std::path::PathBuf;
 
+/// `Error::Stopped::limit` of a stop by the clock.
+pub const TIME_LIMIT: &str = "time limit";
+/// `Error::Stopped::limit` of a stop by the node count.
+pub const NODE_LIMIT: &str = "node limit";
+
 /// Everything that can go wrong in pushpack.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -32,7 +37,7 @@ pub enum Error {
     Stopped {
         /// The stage that stopped (`"sequence (astar)"`, `"sequence (paper)"`).
         stage: String,
-        /// `"time limit"` or `"node limit"`.
+        /// [`TIME_LIMIT`] or [`NODE_LIMIT`].
         limit: String,
         /// Nodes expanded before the stop.
         nodes: u64,

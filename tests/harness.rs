@@ -282,3 +282,42 @@ fn bad_input_exits_2_naming_the_flag() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn a_node_limit_stop_is_recorded_as_node_limit_not_timeout() {
+    // The paper sequencer with a one-node limit stops before it has any plan; a 60 s time limit
+    // is nowhere near, so `timeout` would send a reader to the wrong knob.
+    let dir = tempfile::tempdir().unwrap();
+    let set = dir.path().join("limited");
+    std::fs::create_dir_all(&set).unwrap();
+    let text = std::fs::read_to_string("instances/paper/exp2_8objects.toml").unwrap();
+    let text = text.replace("[planner]\nseed = 1\n", "[planner]\nseed = 1\nmax_nodes = 1\n");
+    assert!(
+        text.contains("max_nodes = 1"),
+        "the paper instance's [planner] table moved"
+    );
+    std::fs::write(set.join("exp2_one_node.toml"), text).unwrap();
+    let out = dir.path().join("out");
+    let o = ok(&[
+        "bench",
+        set.to_str().unwrap(),
+        "--planners",
+        "bl+paper",
+        "--time-limit",
+        "60",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let (rows, _) = read_jsonl(&out.join("results.jsonl")).unwrap();
+    assert_eq!(rows.len(), 1, "{}", String::from_utf8_lossy(&o.stdout));
+    assert_eq!(rows[0].status, RunStatus::NodeLimit, "{:?}", rows[0]);
+    assert!(
+        rows[0].error.as_deref().unwrap_or("").contains("node limit"),
+        "{:?}",
+        rows[0]
+    );
+    let rep = dir.path().join("rep");
+    ok(&["report", out.to_str().unwrap(), "--out", rep.to_str().unwrap()]);
+    let md = std::fs::read_to_string(rep.join("summary.md")).unwrap();
+    assert!(md.contains("| node limit |"), "{md}");
+}

@@ -185,7 +185,7 @@ pub struct BenchSummary {
     pub ran: usize,
     /// Of those, `failed`.
     pub failed: usize,
-    /// Of those, `timeout`.
+    /// Of those, `timeout` or `node_limit`.
     pub timeout: usize,
     /// Runs left for a later `--resume`.
     pub left: usize,
@@ -348,7 +348,7 @@ pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
                 let mut f = failed.lock().expect("no panics while locked");
                 match row.status {
                     RunStatus::Failed => f.0 += 1,
-                    RunStatus::Timeout => f.1 += 1,
+                    RunStatus::Timeout | RunStatus::NodeLimit => f.1 += 1,
                     RunStatus::Ok => {}
                 }
                 *f
@@ -357,7 +357,7 @@ pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
                 write_err.lock().expect("no panics while locked").get_or_insert(e);
             }
             pb.inc(1);
-            pb.set_message(format!("{nf} failed, {nt} timed out"));
+            pb.set_message(format!("{nf} failed, {nt} stopped by a limit"));
             if pb.is_hidden() {
                 // No terminal (a batch job's log): one line per run instead of the bar.
                 eprintln!(

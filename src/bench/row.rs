@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// How a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "snake_case")]
 pub enum RunStatus {
     /// The planner returned a plan (it may still fail verification; see `verify`).
     Ok,
@@ -17,6 +17,9 @@ pub enum RunStatus {
     /// The run's process exceeded the hard wall-clock limit and was killed, or the library's
     /// time limit stopped a stage before it had any plan.
     Timeout,
+    /// A stage's node limit (not the clock) stopped it before it had any plan: a larger
+    /// node limit may find one, a longer time limit would not.
+    NodeLimit,
 }
 
 /// One result row (docs/formats.md, "Benchmark results"). `None` fields are empty in CSV and

@@ -490,7 +490,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             };
             let s = crate::bench::run_batch(&cfg)?;
             println!(
-                "bench: {} runs in this shard, {} already done, {} run now ({} failed, {} timed out), {} left; results in {}",
+                "bench: {} runs in this shard, {} already done, {} run now ({} failed, {} stopped by a time or node limit), {} left; results in {}",
                 s.total,
                 s.already_done,
                 s.ran,

@@ -86,6 +86,8 @@ pub struct GroupStats {
     pub failed: usize,
     /// Runs recorded as `timeout`.
     pub timeout: usize,
+    /// Runs recorded as `node_limit`.
+    pub node_limit: usize,
     /// Median wall time of solved runs (s).
     pub median_time: Option<f64>,
     /// Largest wall time of solved runs (s).
@@ -117,6 +119,7 @@ pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>) -> G
         proven: rows.iter().filter(|r| r.proven()).count(),
         failed: rows.iter().filter(|r| r.status == RunStatus::Failed).count(),
         timeout: rows.iter().filter(|r| r.status == RunStatus::Timeout).count(),
+        node_limit: rows.iter().filter(|r| r.status == RunStatus::NodeLimit).count(),
         median_time: median(&times),
         max_time: times.iter().copied().reduce(f64::max),
         mean_gap: mean(&gaps),
@@ -137,17 +140,18 @@ fn pct(n: usize, d: usize) -> String {
     }
 }
 
-const TABLE_HEAD: &str = "| runs | solved | proven optimal | failed | timeout | median time (s) | max time (s) | mean placement gap | area / best | actions / best |\n";
-const TABLE_RULE: &str = "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+const TABLE_HEAD: &str = "| runs | solved | proven optimal | failed | timeout | node limit | median time (s) | max time (s) | mean placement gap | area / best | actions / best |\n";
+const TABLE_RULE: &str = "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 fn stats_cells(s: &GroupStats) -> String {
     format!(
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
         s.runs,
         pct(s.solved, s.runs),
         pct(s.proven, s.runs),
         s.failed,
         s.timeout,
+        s.node_limit,
         opt(s.median_time, |t| format!("{t:.2}")),
         opt(s.max_time, |t| format!("{t:.2}")),
         opt(s.mean_gap, |g| format!("{:.1} %", 100.0 * g)),

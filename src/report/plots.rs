@@ -172,11 +172,14 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         t.sort_by(f64::total_cmp);
         series.push(t);
     }
-    let per_planner = names
+    // Ablation variants often run on fewer sets than the base planners, so each legend entry
+    // carries its own run count and the axis names one only when they all agree.
+    let runs: Vec<usize> = names
         .iter()
         .map(|p| rows.iter().filter(|r| &r.planner == p).count())
-        .max()
-        .unwrap_or(1);
+        .collect();
+    let per_planner = runs.iter().copied().max().unwrap_or(1);
+    let same_runs = runs.iter().all(|&n| n == per_planner);
     let yr = log_range(series.iter().flatten().copied());
     let root = SVGBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE)?;
@@ -187,7 +190,11 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         .y_label_area_size(80)
         .build_cartesian_2d(0f64..(per_planner as f64 * 1.02 + 1.0), yr.log_scale())?;
     house_style(&mut chart.configure_mesh())
-        .x_desc(format!("instances solved (of {per_planner} per planner)"))
+        .x_desc(if same_runs {
+            format!("instances solved (of {per_planner} per planner)")
+        } else {
+            "instances solved (runs per planner in the legend)".to_string()
+        })
         .y_desc("wall time per run (s, log scale)")
         .y_labels(30)
         .x_label_formatter(&|x| format!("{x:.0}"))
@@ -198,7 +205,7 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         let pts: Vec<(f64, f64)> = t.iter().enumerate().map(|(i, &y)| ((i + 1) as f64, y)).collect();
         chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(w)))?
-            .label(format!("{} ({} solved)", names[k], pts.len()))
+            .label(format!("{} ({} of {} solved)", names[k], pts.len(), runs[k]))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(w)));
         if pts.len() <= 60 {
             chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))?;

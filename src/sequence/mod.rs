@@ -31,8 +31,8 @@ impl SearchStatus {
         crate::error::Error::Stopped {
             stage: stage.into(),
             limit: match self {
-                SearchStatus::NodeLimit => "node limit",
-                _ => "time limit",
+                SearchStatus::NodeLimit => crate::error::NODE_LIMIT,
+                _ => crate::error::TIME_LIMIT,
             }
             .into(),
             nodes,
