@@ -164,6 +164,9 @@ struct ObjectInfo {
     never_direct: bool,
     /// Extents (x1, y1) of the nearest indirect release in each direction that fits the floor.
     release_ext: Vec<[f64; 2]>,
+    /// Per push direction (indexed like [`PushDir::ALL`]): whether any indirect release fits
+    /// the floor, so the object can ever be pushed that way.
+    push_dir_ok: [bool; 2],
 }
 
 struct Search<'a> {
@@ -171,6 +174,11 @@ struct Search<'a> {
     placement: &'a Placement,
     opts: SequenceOptions,
     info: Vec<ObjectInfo>,
+    /// Per push direction, the objects whose targets sit directly behind each object's (the
+    /// edges of the lines one push moves, as in [`lines`]); bit `b` of `behind[k][a]`.
+    behind: [Vec<u64>; 2],
+    /// Objects by target `lo` along each push direction: a line's members come in this order.
+    front_to_back: [Vec<usize>; 2],
     /// Largest offset step per object and push direction (indexed like [`PushDir::ALL`]).
     steps: Vec<[usize; 2]>,
     home: [Vector3<f64>; 2],
@@ -335,9 +343,10 @@ impl<'a> Search<'a> {
                             .iter()
                             .any(|s| walls.iter().any(|w| w.intersects(s)))
                 });
-                let release_ext = PushDir::ALL
+                let nearest = PushDir::ALL.map(|d| t.rect.moved(d, -g.min_offset));
+                let push_dir_ok = nearest.map(|r| r.inside(&floor));
+                let release_ext = nearest
                     .iter()
-                    .map(|d| t.rect.moved(*d, -g.min_offset))
                     .filter(|r| r.inside(&floor))
                     .map(|r| [r.x1, r.y1])
                     .collect();
@@ -348,6 +357,7 @@ impl<'a> Search<'a> {
                     above_target: Vector3::new(release.x, release.y, zt),
                     never_direct: never_direct || opts.no_direct,
                     release_ext,
+                    push_dir_ok,
                 }
             })
             .collect();
@@ -361,11 +371,29 @@ impl<'a> Search<'a> {
         let steps = (0..inst.n())
             .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
             .collect();
+        let t = |i: usize| placement.targets[i].rect;
+        let behind = PushDir::ALL.map(|dir| {
+            let (axis, lat) = (dir.axis(), dir.axis().other());
+            (0..inst.n())
+                .map(|a| {
+                    (0..inst.n().min(64))
+                        .filter(|&b| (t(b).lo(axis) - t(a).hi(axis)).abs() <= EPS && t(a).overlap_on(&t(b), lat) > EPS)
+                        .fold(0u64, |m, b| m | 1 << b)
+                })
+                .collect()
+        });
+        let front_to_back = PushDir::ALL.map(|dir| {
+            let mut order: Vec<usize> = (0..inst.n()).collect();
+            order.sort_by(|&a, &b| t(a).lo(dir.axis()).total_cmp(&t(b).lo(dir.axis())));
+            order
+        });
         Search {
             inst,
             placement,
             opts,
             info,
+            behind,
+            front_to_back,
             steps,
             home: [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)],
             container_corners,
@@ -637,23 +665,50 @@ impl<'a> Search<'a> {
             // One object per push: nothing is shared.
             return (needs_push.len(), needs_push);
         }
-        let open: Vec<usize> = (0..inst.n()).filter(|&i| state[i] != ObjState::Done).collect();
-        let comps: Vec<Vec<usize>> = PushDir::ALL
-            .iter()
-            .map(|&d| component_map(self.placement, &open, d))
-            .collect();
-        let allows = |i: usize, k: usize| match state[i] {
-            ObjState::Released { push_dir, .. } => push_dir == PushDir::ALL[k],
-            _ => true,
-        };
-        let share = |a: usize, b: usize| (0..2).any(|k| allows(a, k) && allows(b, k) && comps[k][a] == comps[k][b]);
-        let mut independent: Vec<usize> = Vec::new();
-        for &i in &needs_push {
-            if independent.iter().all(|&j| !share(i, j)) {
-                independent.push(i);
+        if inst.n() > 64 || needs_push.len() > 64 {
+            // Beyond the bit masks below: one push at least, shared as much as can be.
+            return (usize::from(!needs_push.is_empty()), needs_push);
+        }
+        // One push moves one line: a chain of open targets, each directly behind the last,
+        // all released for the same direction. Objects that can never be on one line together
+        // (not on a common chain in any direction both may still take) need pushes of their
+        // own, so any such pairwise-unshareable set bounds the pushes; take the largest.
+        let open = (0..inst.n())
+            .filter(|&i| state[i] != ObjState::Done)
+            .fold(0u64, |m, i| m | 1 << i);
+        let mut chain = [vec![0u64; inst.n()], vec![0u64; inst.n()]];
+        for (k, desc) in chain.iter_mut().enumerate() {
+            // Back to front, so every object behind `a` already has its own set.
+            for &a in self.front_to_back[k].iter().rev() {
+                let mut m = self.behind[k][a] & open;
+                let mut d = m;
+                while m != 0 {
+                    let b = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    d |= desc[b];
+                }
+                desc[a] = d;
             }
         }
-        (independent.len(), needs_push)
+        let allows = |i: usize, k: usize| match state[i] {
+            ObjState::Released { push_dir, .. } => push_dir == PushDir::ALL[k],
+            _ => self.info[i].push_dir_ok[k],
+        };
+        let share = |a: usize, b: usize| {
+            (0..2).any(|k| allows(a, k) && allows(b, k) && (chain[k][a] >> b & 1 == 1 || chain[k][b] >> a & 1 == 1))
+        };
+        let adj: Vec<u64> = needs_push
+            .iter()
+            .enumerate()
+            .map(|(x, &a)| {
+                needs_push
+                    .iter()
+                    .enumerate()
+                    .filter(|&(y, &b)| x != y && share(a, b))
+                    .fold(0u64, |m, (y, _)| m | 1 << y)
+            })
+            .collect();
+        (max_independent(&adj), needs_push)
     }
 
     /// With `exact`, and once the minimum number of actions is proven, the remaining pushes come
@@ -941,34 +996,53 @@ impl<'a> Search<'a> {
     }
 }
 
-/// Component id of every object in `open`, joining objects whose targets touch along `dir`
-/// (indexed by object; objects not in `open` get their own id).
-fn component_map(placement: &Placement, open: &[usize], dir: PushDir) -> Vec<usize> {
-    let axis = dir.axis();
-    let lat = axis.other();
-    let t = |i: usize| placement.targets[i].rect;
-    let mut parent: Vec<usize> = (0..placement.targets.len()).collect();
-    fn find(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
+/// Size of a largest independent set of the graph with neighbour masks `adj` (at most 64
+/// vertices). Exact: a vertex of degree 0 or 1 is in some largest set, so it is taken without
+/// branching; otherwise the search branches on a vertex of largest degree (in or out), pruned
+/// by the vertices left.
+fn max_independent(adj: &[u64]) -> usize {
+    fn go(adj: &[u64], p: u64, size: usize, best: &mut usize) {
+        if size + p.count_ones() as usize <= *best {
+            return;
         }
-        i
-    }
-    for (k, &a) in open.iter().enumerate() {
-        for &b in &open[k + 1..] {
-            let (ra, rb) = (t(a), t(b));
-            let touch = ((ra.hi(axis) - rb.lo(axis)).abs() <= EPS || (rb.hi(axis) - ra.lo(axis)).abs() <= EPS)
-                && ra.overlap_on(&rb, lat) > EPS;
-            if touch {
-                let (x, y) = (find(&mut parent, a), find(&mut parent, b));
-                if x != y {
-                    parent[x] = y;
-                }
+        if p == 0 {
+            *best = size;
+            return;
+        }
+        let mut m = p;
+        let (mut lo, mut hi) = ((u32::MAX, 0usize), (0u32, 0usize));
+        while m != 0 {
+            let v = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let deg = (adj[v] & p).count_ones();
+            if deg < lo.0 {
+                lo = (deg, v);
+            }
+            if deg >= hi.0 {
+                hi = (deg, v);
             }
         }
+        if lo.0 <= 1 {
+            let v = lo.1;
+            return go(adj, p & !(1 << v) & !adj[v], size + 1, best);
+        }
+        let v = hi.1;
+        go(adj, p & !(1 << v) & !adj[v], size + 1, best);
+        go(adj, p & !(1 << v), size, best);
     }
-    (0..parent.len()).map(|i| find(&mut parent, i)).collect()
+    debug_assert!(adj.len() <= 64);
+    let mut best = 0;
+    go(
+        adj,
+        if adj.len() == 64 {
+            u64::MAX
+        } else {
+            (1u64 << adj.len()) - 1
+        },
+        0,
+        &mut best,
+    );
+    best
 }
 
 /// For every object, the length of the longest line (as in [`lines`]) that ends at it: the
@@ -1370,4 +1444,38 @@ pub fn solve(
         time_s: start.elapsed().as_secs_f64(),
         bound: Some(bound),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::max_independent;
+    use proptest::prelude::*;
+
+    /// Largest independent set by trying every subset.
+    fn brute(adj: &[u64]) -> usize {
+        (0u64..1 << adj.len())
+            .filter(|&s| (0..adj.len()).all(|v| s >> v & 1 == 0 || adj[v] & s == 0))
+            .map(|s| s.count_ones() as usize)
+            .max()
+            .unwrap_or(0)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+        /// The push bound's independent set is exact, not greedy: it must match enumeration.
+        #[test]
+        fn max_independent_matches_enumeration(n in 0usize..13, edges in proptest::collection::vec(any::<bool>(), 78)) {
+            let mut adj = vec![0u64; n];
+            let mut e = edges.iter();
+            for a in 0..n {
+                for b in a + 1..n {
+                    if *e.next().unwrap() {
+                        adj[a] |= 1 << b;
+                        adj[b] |= 1 << a;
+                    }
+                }
+            }
+            prop_assert_eq!(max_independent(&adj), brute(&adj));
+        }
+    }
 }
