@@ -320,4 +320,15 @@ fn a_node_limit_stop_is_recorded_as_node_limit_not_timeout() {
     ok(&["report", out.to_str().unwrap(), "--out", rep.to_str().unwrap()]);
     let md = std::fs::read_to_string(rep.join("summary.md")).unwrap();
     assert!(md.contains("| node limit |"), "{md}");
+    // Result files from before the status existed said `timeout`; they read back as node_limit.
+    let old = dir.path().join("old.jsonl");
+    let line = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    assert!(line.contains("\"status\":\"node_limit\""), "{line}");
+    std::fs::write(
+        &old,
+        line.replace("\"status\":\"node_limit\"", "\"status\":\"timeout\""),
+    )
+    .unwrap();
+    let (rows, _) = read_jsonl(&old).unwrap();
+    assert_eq!(rows[0].status, RunStatus::NodeLimit);
 }

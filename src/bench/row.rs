@@ -245,6 +245,22 @@ fn io_err(path: &Path, e: std::io::Error) -> Error {
     }
 }
 
+impl ResultRow {
+    /// The row as the current version writes it: rows from before the `node_limit` status
+    /// (commit 3ff21f3) recorded a node-limit stop as `timeout`, naming the limit in `error`.
+    fn upgraded(mut self) -> Self {
+        if self.status == RunStatus::Timeout
+            && self
+                .error
+                .as_deref()
+                .is_some_and(|e| e.contains(&format!("stopped by its {}", crate::error::NODE_LIMIT)))
+        {
+            self.status = RunStatus::NodeLimit;
+        }
+        self
+    }
+}
+
 /// Rows of a JSON Lines file and the byte length of its well-formed prefix.
 ///
 /// A kill can cut the last line short; such a final line (no newline, or not parseable) is
@@ -268,7 +284,7 @@ pub fn read_jsonl(path: &Path) -> Result<(Vec<ResultRow>, u64)> {
         }
         match serde_json::from_str::<ResultRow>(line) {
             Ok(r) if complete => {
-                rows.push(r);
+                rows.push(r.upgraded());
                 good += line.len() as u64 + 1;
             }
             Ok(_) => break, // parseable but unterminated: the writer died before the newline
