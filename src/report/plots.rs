@@ -45,7 +45,14 @@ fn draw_err(path: &Path, e: impl std::fmt::Display) -> Error {
 /// Write every plot the rows support; returns the files written.
 pub fn write_plots(rows: &[ResultRow], out: &Path) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    let names = planners(rows);
+    let all = planners(rows);
+    // More series than colours cannot be told apart; the ablation variants then have their
+    // own plots (table2_*.svg), and the comparison plots keep the base planners.
+    let names: Vec<String> = if all.len() > COLORS.len() {
+        all.into_iter().filter(|p| !p.contains("+no-")).collect()
+    } else {
+        all
+    };
     let p = out.join("time_vs_objects.svg");
     time_vs_objects(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
     files.push(p);
