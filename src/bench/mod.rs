@@ -186,7 +186,7 @@ pub struct BenchSummary {
     /// Of those, `failed`.
     pub failed: usize,
     /// Of those, `timeout` or `node_limit`.
-    pub timeout: usize,
+    pub stopped: usize,
     /// Runs left for a later `--resume`.
     pub left: usize,
     /// The JSON Lines result file.
@@ -382,7 +382,7 @@ pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
         already_done,
         ran: pending.len(),
         failed: nf,
-        timeout: nt,
+        stopped: nt,
         left: left_after,
         results: jsonl,
     })

@@ -176,6 +176,20 @@ pub fn tool_version() -> (String, String) {
 }
 
 impl ResultRow {
+    /// The row as the current version writes it: rows from before the `node_limit` status
+    /// (commit 3ff21f3) recorded a node-limit stop as `timeout`, naming the limit in `error`.
+    fn upgraded(mut self) -> Self {
+        if self.status == RunStatus::Timeout
+            && self
+                .error
+                .as_deref()
+                .is_some_and(|e| e.contains(&format!("stopped by its {}", crate::error::NODE_LIMIT)))
+        {
+            self.status = RunStatus::NodeLimit;
+        }
+        self
+    }
+
     /// The key results are merged and resumed by: (instance path, planner).
     pub fn key(&self) -> (String, String) {
         (self.instance.clone(), self.planner.clone())
@@ -242,22 +256,6 @@ fn io_err(path: &Path, e: std::io::Error) -> Error {
     Error::Io {
         path: path.to_path_buf(),
         source: e,
-    }
-}
-
-impl ResultRow {
-    /// The row as the current version writes it: rows from before the `node_limit` status
-    /// (commit 3ff21f3) recorded a node-limit stop as `timeout`, naming the limit in `error`.
-    fn upgraded(mut self) -> Self {
-        if self.status == RunStatus::Timeout
-            && self
-                .error
-                .as_deref()
-                .is_some_and(|e| e.contains(&format!("stopped by its {}", crate::error::NODE_LIMIT)))
-        {
-            self.status = RunStatus::NodeLimit;
-        }
-        self
     }
 }
 

@@ -495,7 +495,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 s.already_done,
                 s.ran,
                 s.failed,
-                s.timeout,
+                s.stopped,
                 s.left,
                 s.results.display()
             );

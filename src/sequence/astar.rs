@@ -371,20 +371,19 @@ impl<'a> Search<'a> {
         let steps = (0..inst.n())
             .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
             .collect();
-        let t = |i: usize| placement.targets[i].rect;
         let behind = PushDir::ALL.map(|dir| {
-            let (axis, lat) = (dir.axis(), dir.axis().other());
             (0..inst.n())
                 .map(|a| {
                     (0..inst.n().min(64))
-                        .filter(|&b| (t(b).lo(axis) - t(a).hi(axis)).abs() <= EPS && t(a).overlap_on(&t(b), lat) > EPS)
+                        .filter(|&b| behind(placement, dir, a, b))
                         .fold(0u64, |m, b| m | 1 << b)
                 })
                 .collect()
         });
         let front_to_back = PushDir::ALL.map(|dir| {
+            let lo = |i: usize| placement.targets[i].rect.lo(dir.axis());
             let mut order: Vec<usize> = (0..inst.n()).collect();
-            order.sort_by(|&a, &b| t(a).lo(dir.axis()).total_cmp(&t(b).lo(dir.axis())));
+            order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)));
             order
         });
         Search {
@@ -1045,12 +1044,18 @@ fn max_independent(adj: &[u64]) -> usize {
     best
 }
 
+/// Whether `b`'s target sits directly behind `a`'s along `dir` (touching, with lateral
+/// overlap): the one edge every line of a push is made of.
+fn behind(placement: &Placement, dir: PushDir, a: usize, b: usize) -> bool {
+    let (ra, rb) = (placement.targets[a].rect, placement.targets[b].rect);
+    (rb.lo(dir.axis()) - ra.hi(dir.axis())).abs() <= EPS && ra.overlap_on(&rb, dir.axis().other()) > EPS
+}
+
 /// For every object, the length of the longest line (as in [`lines`]) that ends at it: the
 /// paper's staggered releases put the k-th object of a line at offset `k·d`, so an object may
 /// need offsets up to its rank whatever the configured step limit.
 pub fn line_rank(placement: &Placement, dir: PushDir) -> Vec<usize> {
     let axis = dir.axis();
-    let lat = axis.other();
     let t = |i: usize| placement.targets[i].rect;
     let n = placement.targets.len();
     // Front to back: a line's objects have strictly increasing `lo` along the axis.
@@ -1059,7 +1064,7 @@ pub fn line_rank(placement: &Placement, dir: PushDir) -> Vec<usize> {
     let mut rank = vec![1; n];
     for (k, &b) in order.iter().enumerate() {
         for &a in &order[..k] {
-            if (t(b).lo(axis) - t(a).hi(axis)).abs() <= EPS && t(a).overlap_on(&t(b), lat) > EPS {
+            if behind(placement, dir, a, b) {
                 rank[b] = rank[b].max(rank[a] + 1);
             }
         }
@@ -1070,17 +1075,13 @@ pub fn line_rank(placement: &Placement, dir: PushDir) -> Vec<usize> {
 /// Every line (front to back, consecutive targets touching along `dir` with lateral overlap)
 /// of objects from `members`, up to `max_len` long.
 pub fn lines(placement: &Placement, members: &[usize], dir: PushDir, max_len: usize) -> Vec<Vec<usize>> {
-    let axis = dir.axis();
-    let lat = axis.other();
-    let t = |i: usize| placement.targets[i].rect;
-    let behind = |a: usize, b: usize| (t(b).lo(axis) - t(a).hi(axis)).abs() <= EPS && t(a).overlap_on(&t(b), lat) > EPS;
     let mut out = Vec::new();
     let mut stack: Vec<Vec<usize>> = members.iter().map(|&m| vec![m]).collect();
     while let Some(line) = stack.pop() {
         let last = *line.last().expect("non-empty");
         if line.len() < max_len {
             for &b in members {
-                if !line.contains(&b) && behind(last, b) {
+                if !line.contains(&b) && behind(placement, dir, last, b) {
                     let mut l = line.clone();
                     l.push(b);
                     stack.push(l);
