@@ -540,20 +540,27 @@ fn check_samples(
     }
     let model = &ctx.inst.robot.model;
     let arm = solver.arm();
-    let mut static_obs: Option<Vec<Obstacle>> = None;
+    let moving = matches!(action, Action::Push { .. }) && seg == 2;
+    let fixed_obs = if moving {
+        Vec::new()
+    } else {
+        ctx.obstacles(action, seg, None)
+    };
+    // The predicate discards the clearance (its answer is yes/no and the joint cost), and the
+    // distance queries cost more than the boolean test they would follow.
+    let report_clearance = ctx.scope == Scope::Full;
     for (k, q) in qs.iter().enumerate() {
         let parts = robot_parts(model, ctx.inst, arm, q, hand);
         let tcp = solver.fk(q).translation.vector;
-        let moving = matches!(action, Action::Push { .. }) && seg == 2;
+        let moved_obs;
         let obs = if moving {
-            ctx.obstacles(action, seg, Some(&tcp))
+            moved_obs = ctx.obstacles(action, seg, Some(&tcp));
+            &moved_obs
         } else {
-            static_obs
-                .get_or_insert_with(|| ctx.obstacles(action, seg, None))
-                .clone()
+            &fixed_obs
         };
         let skip = Ctx::skip(action, seg);
-        if let Some((p, o)) = first_collision(&parts, &obs, &skip) {
+        if let Some((p, o)) = first_collision(&parts, obs, &skip) {
             return Err(RobotError::Collision {
                 what: what.to_string(),
                 part: p.name.clone(),
@@ -562,8 +569,8 @@ fn check_samples(
             });
         }
         // Clearance report on a subset of samples (it is slower than the boolean test).
-        if k % 8 == 0 || k + 1 == qs.len() {
-            *min_clear = min_clear.min(clearance(&parts, &obs, &skip));
+        if report_clearance && (k % 8 == 0 || k + 1 == qs.len()) {
+            *min_clear = min_clear.min(clearance(&parts, obs, &skip));
         }
     }
     Ok(())
