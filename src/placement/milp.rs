@@ -514,6 +514,13 @@ fn grid_max_nnz() -> usize {
         .unwrap_or(GRID_MAX_NNZ)
 }
 
+/// Largest grid model (cover-row non-zeros) solved with HiGHS presolve on. Below it presolve
+/// pays (the paper's eight-object models close at the root instead of after 50 nodes of cut
+/// rounds, 0.4 s instead of 1.1 s); from 20k to 100k, the same 12-object models were as often
+/// slower as faster with it, and above, presolve alone can take the whole visit cap
+/// (docs/benchmarks.md).
+const GRID_PRESOLVE_MAX_NNZ: usize = 20_000;
+
 /// One depth-minimisation MILP for width `w`, cut `d`: the HiGHS result and its placement.
 fn depth_milp(
     inst: &Instance,
@@ -557,7 +564,8 @@ fn depth_milp(
                 t0.elapsed().as_secs_f64()
             );
         }
-        let solved = run_highs(problem, init.as_deref(), time_left, seed, abs_gap, false)?;
+        let presolve = nnz <= GRID_PRESOLVE_MAX_NNZ;
+        let solved = run_highs(problem, init.as_deref(), time_left, seed, abs_gap, presolve)?;
         let p = solved.cols.as_deref().map(|c| model.extract(fps, inst.n(), c));
         return Ok(Some((solved, p, "grid")));
     }
@@ -611,6 +619,19 @@ fn run_highs(
     model.set_option("threads", 1);
     if !presolve {
         model.set_option("presolve", "off");
+    }
+    // Experiments only (documented in docs/algorithms.md): extra HiGHS options as
+    // `name=value,...`, applied last so they override the settings above.
+    if let Ok(extra) = std::env::var("PUSHPACK_HIGHS_OPTIONS") {
+        for kv in extra.split(',').filter(|s| !s.is_empty()) {
+            let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
+            match (v.parse::<bool>(), v.parse::<i32>(), v.parse::<f64>()) {
+                (Ok(b), _, _) => model.set_option(k, b),
+                (_, Ok(i), _) => model.set_option(k, i),
+                (_, _, Ok(f)) => model.set_option(k, f),
+                _ => model.set_option(k, v),
+            }
+        }
     }
     if let Some(sol) = initial {
         model.set_solution(Some(sol), None, None, None);
@@ -993,10 +1014,28 @@ pub fn solve(
         }
         let mut all_optimal = area_optimal && ties_closed;
         let mut best_contact = best.contact_length(inst);
+        // The high walls earn contact only where the extent reaches them; with those matched,
+        // the contact stage of `(d, w)` is the transpose of that of `(w, d)`.
+        let (cw, cd) = (inst.container.width, inst.container.depth);
+        let walls_transpose =
+            |(w, d): (f64, f64)| (w >= cw - EPS) == (w >= cd - EPS) && (d >= cd - EPS) == (d >= cw - EPS);
+        let mut done: Vec<((f64, f64), bool)> = Vec::new();
         for e in extents {
             if left(settings) <= 0.0 {
                 all_optimal = false;
                 break;
+            }
+            // A transposed extent already solved has the same optimum, reached by the transposed
+            // placement; that ties with a contact already taken into `best_contact`, and only a
+            // strictly larger one replaces `best`, so the stage would change nothing.
+            if transposable && walls_transpose(e) {
+                if let Some(&(_, opt)) = done
+                    .iter()
+                    .find(|(f, _)| (f.0 - e.1).abs() <= 1e-9 && (f.1 - e.0).abs() <= 1e-9)
+                {
+                    all_optimal &= opt;
+                    continue;
+                }
             }
             let warm_p = solutions.iter().find(|p| {
                 let f = p.extent();
@@ -1014,6 +1053,7 @@ pub fn solve(
                 Some((p, opt, n2)) => {
                     nodes += n2;
                     all_optimal &= opt;
+                    done.push((e, opt));
                     let c = p.contact_length(inst);
                     if c > best_contact + 1e-9 && p.occupied_area() <= best_area + 1e-12 {
                         best = p;
