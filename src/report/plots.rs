@@ -101,6 +101,29 @@ fn log_range(v: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     lo..hi
 }
 
+/// Labelled ticks of a log axis over `r` (whole decades): 1, 2 and 5 of every decade. The
+/// default key points of plotters' log axis skipped every label below 1 s.
+fn log_ticks(r: &std::ops::Range<f64>) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut e = r.start.log10().round() as i32;
+    while 10f64.powi(e) <= r.end * 1.0001 {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * 10f64.powi(e);
+            if v >= r.start * 0.9999 && v <= r.end * 1.0001 {
+                out.push(v);
+            }
+        }
+        e += 1;
+    }
+    out
+}
+
+/// A tick value without float noise: `0.2`, `0.05`, `20`.
+fn tick_label(v: f64) -> String {
+    let s = format!("{v:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 fn draw_legend<
     'a,
     DB: DrawingBackend + 'a,
@@ -147,13 +170,16 @@ fn time_vs_objects(rows: &[ResultRow], names: &[String], path: &Path) -> DrawRes
         .margin(20)
         .x_label_area_size(55)
         .y_label_area_size(80)
-        .build_cartesian_2d((nmin - 1.0)..(nmax + 1.0), yr.log_scale())?;
+        .build_cartesian_2d(
+            (nmin - 1.0)..(nmax + 1.0),
+            yr.clone().log_scale().with_key_points(log_ticks(&yr)),
+        )?;
     house_style(&mut chart.configure_mesh())
         .x_desc("objects")
         .y_desc("median wall time (s, log scale)")
         .y_labels(30)
         .x_label_formatter(&|x| format!("{x:.0}"))
-        .y_label_formatter(&|y| format!("{y}"))
+        .y_label_formatter(&|y| tick_label(*y))
         .draw()?;
     for (k, v) in pts {
         let (c, w) = (color(k), width(k, names.len()));
@@ -195,7 +221,10 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         .margin(20)
         .x_label_area_size(55)
         .y_label_area_size(80)
-        .build_cartesian_2d(0f64..(per_planner as f64 * 1.02 + 1.0), yr.log_scale())?;
+        .build_cartesian_2d(
+            0f64..(per_planner as f64 * 1.02 + 1.0),
+            yr.clone().log_scale().with_key_points(log_ticks(&yr)),
+        )?;
     house_style(&mut chart.configure_mesh())
         .x_desc(if same_runs {
             format!("instances solved (of {per_planner} per planner)")
@@ -205,7 +234,7 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         .y_desc("wall time per run (s, log scale)")
         .y_labels(30)
         .x_label_formatter(&|x| format!("{x:.0}"))
-        .y_label_formatter(&|y| format!("{y}"))
+        .y_label_formatter(&|y| tick_label(*y))
         .draw()?;
     for (k, t) in series.into_iter().enumerate() {
         let (c, w) = (color(k), width(k, names.len()));
