@@ -502,6 +502,36 @@ fn propagate(cands: &mut [Cand], k: usize, transposable: bool, above: &dyn Fn(f6
     }
 }
 
+/// A placement of extent `(w, d)` shows `D(c.w) ≤ d` for every candidate at least `w` wide;
+/// where the proven bound already reaches `d`, that candidate's `D` is known.
+fn close_with(cands: &mut [Cand], (w, d): (f64, f64)) {
+    for c in cands.iter_mut().filter(|c| c.w >= w - EPS && c.dl >= d - DEPTH_TOL) {
+        c.solved = true;
+    }
+}
+
+/// `p` mirrored in the line `x = y`: every footprint's position and sizes swapped, each object
+/// turned to its footprint with swapped sizes (`None` if one has none).
+fn transpose(p: &Placement, fps: &[Vec<([f64; 2], Orientation, f64)>]) -> Option<Placement> {
+    let targets = p
+        .targets
+        .iter()
+        .zip(fps)
+        .map(|(t, opts)| {
+            let (w, d) = (t.rect.width(), t.rect.depth());
+            let &(_, q, h) = opts
+                .iter()
+                .find(|(f, _, _)| (f[0] - d).abs() <= EPS && (f[1] - w).abs() <= EPS)?;
+            Some(Target {
+                orientation: q,
+                rect: Rect::new(t.rect.y0, t.rect.x0, d, w),
+                height: h,
+            })
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some(Placement { targets })
+}
+
 /// Largest grid model (cover-row non-zeros) built before falling back to the disjunctive model.
 const GRID_MAX_NNZ: usize = 400_000;
 
@@ -881,6 +911,16 @@ pub fn solve(
     let mut nodes = warm.nodes;
     // Area-optimal candidates found (their solutions), for the contact stage.
     let mut solutions: Vec<Placement> = vec![best.clone()];
+    if let Some(t) = transposable
+        .then(|| transpose(&best, &fps))
+        .flatten()
+        .filter(|t| t.violations(inst).is_empty())
+    {
+        solutions.push(t);
+    }
+    for p in &solutions {
+        close_with(&mut cands, p.extent());
+    }
     let base_cap = (settings.time_limit * CAP_SHARE).max(1.0);
     loop {
         // Candidates that may still hold a smaller area (first), then those whose bound equals
@@ -951,8 +991,17 @@ pub fn solve(
                         best = q.clone();
                         best_area = area;
                     }
-                    if area <= best_area + AREA_TOL {
-                        solutions.push(q);
+                    // The transposed placement is a solution too: it closes the transposed
+                    // candidate, whose tie visit otherwise asks HiGHS what is already known.
+                    let t = transposable
+                        .then(|| transpose(&q, &fps))
+                        .flatten()
+                        .filter(|t| t.violations(inst).is_empty());
+                    for r in std::iter::once(q).chain(t) {
+                        close_with(&mut cands, r.extent());
+                        if area <= best_area + AREA_TOL {
+                            solutions.push(r);
+                        }
                     }
                 }
                 match solved.status {
