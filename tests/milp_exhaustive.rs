@@ -15,7 +15,7 @@ mod common;
 
 use pushpack::control::TimeLimit;
 use pushpack::instance::Instance;
-use pushpack::placement::{bl, milp, PlacementStatus};
+use pushpack::placement::{bl, milp, PlacementResult, PlacementStatus};
 
 fn footprints(inst: &Instance) -> Vec<Vec<[f64; 2]>> {
     inst.objects
@@ -135,6 +135,18 @@ fn brute_force_area(inst: &Instance, upper: f64) -> f64 {
     e.best
 }
 
+/// Bottom-Left (64 orders) and the MILP warm-started by it, contact stage on, 60 s limit.
+fn bl_and_milp(inst: &Instance, seed: u64) -> (PlacementResult, PlacementResult) {
+    let blr = bl::solve(inst, seed, 64, &TimeLimit::new(30.0)).unwrap();
+    let settings = milp::MilpSettings {
+        time_limit: 60.0,
+        contact_stage: true,
+        seed,
+    };
+    let r = milp::solve(inst, &blr, &settings, &TimeLimit::new(60.0)).unwrap();
+    (blr, r)
+}
+
 #[test]
 fn milp_matches_exhaustive_enumeration_on_random_small_instances() {
     let mut checked = 0;
@@ -147,13 +159,7 @@ fn milp_matches_exhaustive_enumeration_on_random_small_instances() {
         // 1 mm edges make the MILP's grid fine and its run long (docs/benchmarks.md).
         let step = if n <= 4 && seed % 2 == 0 { 1 } else { 5 };
         let inst = common::parse(&common::random_instance_text_step(1000 + seed, n, kinds, ori, step));
-        let blr = bl::solve(&inst, seed, 64, &TimeLimit::new(30.0)).unwrap();
-        let settings = milp::MilpSettings {
-            time_limit: 60.0,
-            contact_stage: true,
-            seed,
-        };
-        let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(60.0)).unwrap();
+        let (blr, r) = bl_and_milp(&inst, seed);
         assert!(
             r.placement.violations(&inst).is_empty(),
             "seed {seed}: {:?}",
@@ -273,13 +279,7 @@ fn milp_matches_exhaustive_enumeration_on_long_boxes() {
     for (c, kinds) in cases.iter().enumerate() {
         for ori in ["upright", "any"] {
             let inst = common::parse(&kinds_instance_text(kinds, ori));
-            let blr = bl::solve(&inst, c as u64, 64, &TimeLimit::new(30.0)).unwrap();
-            let settings = milp::MilpSettings {
-                time_limit: 60.0,
-                contact_stage: true,
-                seed: c as u64,
-            };
-            let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(60.0)).unwrap();
+            let (blr, r) = bl_and_milp(&inst, c as u64);
             assert!(r.placement.violations(&inst).is_empty(), "case {c} {ori}");
             let area = r.placement.occupied_area();
             let exact = brute_force_area(&inst, blr.placement.occupied_area());
@@ -449,13 +449,7 @@ fn milp_contact_length_matches_exhaustive_enumeration() {
         let kinds = 1 + (seed as usize % 3);
         let ori = if seed % 3 == 0 { "upright" } else { "any" };
         let inst = common::parse(&common::random_instance_text_step(2000 + seed, n, kinds, ori, 5));
-        let blr = bl::solve(&inst, seed, 64, &TimeLimit::new(30.0)).unwrap();
-        let settings = milp::MilpSettings {
-            time_limit: 60.0,
-            contact_stage: true,
-            seed,
-        };
-        let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(60.0)).unwrap();
+        let (blr, r) = bl_and_milp(&inst, seed);
         assert_eq!(r.status, PlacementStatus::Optimal, "seed {seed}");
         let area = r.placement.occupied_area();
         let exact_area = brute_force_area(&inst, blr.placement.occupied_area());

@@ -910,14 +910,13 @@ pub fn solve(
     let mut milps = 0u64;
     let mut nodes = warm.nodes;
     // Area-optimal candidates found (their solutions), for the contact stage.
-    let mut solutions: Vec<Placement> = vec![best.clone()];
-    if let Some(t) = transposable
-        .then(|| transpose(&best, &fps))
-        .flatten()
-        .filter(|t| t.violations(inst).is_empty())
-    {
-        solutions.push(t);
-    }
+    // A placement and its mirror image in x = y, when every chosen footprint has a swapped one
+    // and the mirror fits the container: both are solutions of the same area.
+    let with_mirror = |p: Placement| -> Vec<Placement> {
+        let t = transpose(&p, &fps).filter(|t| t.violations(inst).is_empty());
+        std::iter::once(p).chain(t).collect()
+    };
+    let mut solutions: Vec<Placement> = with_mirror(best.clone());
     for p in &solutions {
         close_with(&mut cands, p.extent());
     }
@@ -991,13 +990,9 @@ pub fn solve(
                         best = q.clone();
                         best_area = area;
                     }
-                    // The transposed placement is a solution too: it closes the transposed
-                    // candidate, whose tie visit otherwise asks HiGHS what is already known.
-                    let t = transposable
-                        .then(|| transpose(&q, &fps))
-                        .flatten()
-                        .filter(|t| t.violations(inst).is_empty());
-                    for r in std::iter::once(q).chain(t) {
+                    // The mirror closes the transposed candidate, whose tie visit would
+                    // otherwise ask HiGHS what is already known.
+                    for r in with_mirror(q) {
                         close_with(&mut cands, r.extent());
                         if area <= best_area + AREA_TOL {
                             solutions.push(r);
