@@ -179,6 +179,13 @@ struct Search<'a> {
     behind: [Vec<u64>; 2],
     /// Objects by target `lo` along each push direction: a line's members come in this order.
     front_to_back: [Vec<usize>; 2],
+    /// Every line a push could ever move, when the instance is small enough to list them
+    /// (see [`push_lines`]); `None` falls back to the chains of `behind`.
+    push_lines: Option<Vec<PushLine>>,
+    /// Per object and grasp axis (X, Y) of a direct placement: `None` when walls or the
+    /// opening rule the axis out for good, else the objects whose targets stand in a finger
+    /// slab (empty unless `push_lines` is listed).
+    slab_hits: Vec<[Option<u64>; 2]>,
     /// Largest offset step per object and push direction (indexed like [`PushDir::ALL`]).
     steps: Vec<[usize; 2]>,
     home: [Vector3<f64>; 2],
@@ -328,7 +335,7 @@ impl<'a> Search<'a> {
         let layout = Layout::new(inst, placement);
         let floor = inst.container.floor();
         let walls = inst.container.walls();
-        let info = (0..inst.n())
+        let info: Vec<ObjectInfo> = (0..inst.n())
             .map(|i| {
                 let o = &inst.objects[i];
                 let (_, h_table) = o.table_footprint();
@@ -368,7 +375,7 @@ impl<'a> Search<'a> {
             Vector3::new(p.x, p.y, zt)
         });
         let ranks = PushDir::ALL.map(|dir| line_rank(placement, dir));
-        let steps = (0..inst.n())
+        let steps: Vec<[usize; 2]> = (0..inst.n())
             .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
             .collect();
         let behind = PushDir::ALL.map(|dir| {
@@ -386,6 +393,20 @@ impl<'a> Search<'a> {
             order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)));
             order
         });
+        let t_lines = Instant::now();
+        let push_lines = push_lines(inst, placement, &opts, &info, &steps);
+        if std::env::var_os("PUSHPACK_DEBUG").is_some() {
+            eprintln!(
+                "push lines: {:?} in {:.3}s",
+                push_lines.as_ref().map(|l| l.len()),
+                t_lines.elapsed().as_secs_f64()
+            );
+        }
+        let slab_hits = if push_lines.is_some() {
+            slab_hits(inst, placement)
+        } else {
+            Vec::new()
+        };
         Search {
             inst,
             placement,
@@ -393,6 +414,8 @@ impl<'a> Search<'a> {
             info,
             behind,
             front_to_back,
+            push_lines,
+            slab_hits,
             steps,
             home: [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)],
             container_corners,
@@ -651,6 +674,9 @@ impl<'a> Search<'a> {
 
     /// Lower bound on the pushes still needed, and the objects that need one.
     fn push_lower_bound(&self, state: &[ObjState]) -> (usize, Vec<usize>) {
+        if let Some(pl) = &self.push_lines {
+            return self.line_cover_bound(pl, state);
+        }
         let inst = self.inst;
         let done: Vec<usize> = (0..inst.n()).filter(|&i| state[i] == ObjState::Done).collect();
         let needs_push: Vec<usize> = (0..inst.n())
@@ -707,6 +733,105 @@ impl<'a> Search<'a> {
                     .fold(0u64, |m, (y, _)| m | 1 << y)
             })
             .collect();
+        (max_independent(&adj), needs_push)
+    }
+
+    /// [`Search::push_lower_bound`] from the lines a push can still move (`push_lines`).
+    ///
+    /// A line is usable when all its members are open and may take its direction, and some gap
+    /// pattern of it is blocked by no object already at its target (done objects never move
+    /// again). Push demands are the objects that need a push, and the pairs of table objects
+    /// that block each other's direct placement for good: object `i` placed directly needs,
+    /// on the axis it uses, every object in a finger slab still away, so if `j` stands in every
+    /// usable slab of `i` and `i` in every usable slab of `j`, whichever is placed directly
+    /// first makes the other's impossible, and one of the two needs a push. Two demands that no
+    /// usable line serves together need two pushes, so a largest set of pairwise unshareable
+    /// demands bounds the pushes. A demand that no usable line serves at all makes the state a
+    /// dead end ([`DEAD_END`]).
+    fn line_cover_bound(&self, lines: &[PushLine], state: &[ObjState]) -> (usize, Vec<usize>) {
+        let mut done = 0u64;
+        let mut allow = [0u64; 2];
+        for (i, s) in state.iter().enumerate() {
+            match s {
+                ObjState::Done => done |= 1 << i,
+                ObjState::Released { push_dir, .. } => {
+                    allow[PushDir::ALL
+                        .iter()
+                        .position(|d| d == push_dir)
+                        .expect("a push direction")] |= 1 << i
+                }
+                ObjState::Table => {
+                    for (k, a) in allow.iter_mut().enumerate() {
+                        if self.info[i].push_dir_ok[k] {
+                            *a |= 1 << i;
+                        }
+                    }
+                }
+            }
+        }
+        // Per table object, the objects in every finger slab still usable (`None`: no usable
+        // slab left, so the object needs a push).
+        let blocking = |i: usize| -> Option<u64> {
+            if self.info[i].never_direct {
+                return None;
+            }
+            self.slab_hits[i]
+                .iter()
+                .flatten()
+                .filter(|&&m| m & done == 0)
+                .fold(None, |acc: Option<u64>, &m| Some(acc.map_or(m, |a| a & m)))
+        };
+        let mut demands: Vec<u64> = Vec::new();
+        let mut needs_push = Vec::new();
+        let mut direct_need = Vec::new();
+        for (i, s) in state.iter().enumerate() {
+            match s {
+                ObjState::Released { .. } => needs_push.push(i),
+                ObjState::Table => match blocking(i) {
+                    None => needs_push.push(i),
+                    Some(m) => direct_need.push((i, m)),
+                },
+                ObjState::Done => {}
+            }
+        }
+        demands.extend(needs_push.iter().map(|&i| 1u64 << i));
+        for (x, &(i, mi)) in direct_need.iter().enumerate() {
+            for &(j, mj) in &direct_need[x + 1..] {
+                if demands.len() < 64 && mi >> j & 1 == 1 && mj >> i & 1 == 1 {
+                    demands.push(1 << i | 1 << j);
+                }
+            }
+        }
+        if demands.is_empty() {
+            return (0, needs_push);
+        }
+        let mut served = 0u64;
+        let mut adj = vec![0u64; demands.len()];
+        for l in lines {
+            if l.members & !allow[l.dir] != 0 || l.blockers.iter().all(|b| b & done != 0) {
+                continue;
+            }
+            let here = demands
+                .iter()
+                .enumerate()
+                .filter(|&(_, &dm)| dm & l.members != 0)
+                .fold(0u64, |m, (y, _)| m | 1 << y);
+            served |= here;
+            let mut m = here;
+            while m != 0 {
+                let y = m.trailing_zeros() as usize;
+                m &= m - 1;
+                adj[y] |= here & !(1 << y);
+            }
+        }
+        let all = if demands.len() == 64 {
+            u64::MAX
+        } else {
+            (1u64 << demands.len()) - 1
+        };
+        if served != all {
+            return (DEAD_END, needs_push);
+        }
         (max_independent(&adj), needs_push)
     }
 
@@ -1044,6 +1169,344 @@ fn max_independent(adj: &[u64]) -> usize {
     best
 }
 
+/// Per object and grasp axis, what [`Search::slab_hits`] holds.
+fn slab_hits(inst: &Instance, placement: &Placement) -> Vec<[Option<u64>; 2]> {
+    let g = &inst.gripper;
+    let walls = inst.container.walls();
+    (0..inst.n())
+        .map(|i| {
+            let t = placement.targets[i];
+            [Axis2::X, Axis2::Y].map(|ax| {
+                if t.rect.extent(ax) + 2.0 * g.release_clearance > g.max_opening + EPS {
+                    return None;
+                }
+                let slabs = crate::actions::finger_slabs(g, &t.rect, t.height, ax);
+                if slabs.iter().any(|s| walls.iter().any(|w| w.intersects(s))) {
+                    return None;
+                }
+                Some((0..inst.n()).filter(|&j| j != i).fold(0u64, |m, j| {
+                    let tj = placement.targets[j];
+                    let b = crate::geometry::Box3::extrude(&tj.rect, 0.0, tj.height);
+                    if slabs.iter().any(|s| b.intersects(s)) {
+                        m | 1 << j
+                    } else {
+                        m
+                    }
+                }))
+            })
+        })
+        .collect()
+}
+
+/// Remaining-pushes bound of a state from which no plan exists: far above any budget, and small
+/// enough that sums of costs never overflow.
+const DEAD_END: usize = 1 << 20;
+
+/// Most lines, and gap patterns over all lines, [`push_lines`] lists before giving up (the
+/// static checks cost one layout check per pattern and object).
+const MAX_LINE_PATTERNS: usize = 4096;
+
+/// A line a push could move, with what can stop it for good.
+struct PushLine {
+    /// Index of the push direction in [`PushDir::ALL`].
+    dir: usize,
+    /// Members (bit per object).
+    members: u64,
+    /// Per gap pattern that passes the push check with nothing else in the container: the
+    /// objects whose targets, once done, make that pattern fail (empty when no pattern passes
+    /// the line is left out).
+    blockers: Vec<u64>,
+}
+
+/// Every line of the placement that some push could move, with the objects that block each of
+/// its feasible gap patterns once at their targets; `None` when there are too many to list.
+///
+/// A line's push check (walls, pusher, swept space, stability) depends on the rest of the
+/// container only through obstacles, and only its gap pattern (which consecutive members start
+/// apart) changes the stability phases. Each pattern is checked at its smallest offsets (the
+/// front at `d`, one `d` more at every gap): larger offsets of the same pattern sweep a superset
+/// of the space (release to target, pusher start to end), so an object that blocks the
+/// smallest offsets blocks every offset of the pattern. Released objects elsewhere only block
+/// for a while and are ignored: the result is a relaxation, as a bound needs.
+fn push_lines(
+    inst: &Instance,
+    placement: &Placement,
+    opts: &SequenceOptions,
+    info: &[ObjectInfo],
+    steps: &[[usize; 2]],
+) -> Option<Vec<PushLine>> {
+    let n = inst.n();
+    if n > 64 {
+        return None;
+    }
+    let all: Vec<usize> = (0..n).collect();
+    let max_len = if opts.no_multi_push { 1 } else { usize::MAX };
+    let mut per_dir = Vec::new();
+    let mut patterns = 0usize;
+    for (k, dir) in PushDir::ALL.into_iter().enumerate() {
+        for line in lines(placement, &all, dir, max_len) {
+            if line.iter().any(|&i| !info[i].push_dir_ok[k]) {
+                continue;
+            }
+            if line.len() > 13 {
+                return None;
+            }
+            patterns += 1 << (line.len() - 1);
+            if patterns > MAX_LINE_PATTERNS {
+                return None;
+            }
+            per_dir.push((k, dir, line));
+        }
+    }
+    let mut out = Vec::new();
+    let mut budget = MAX_RELEASE_CHECKS;
+    let budget = &mut budget;
+    for (k, dir, line) in per_dir {
+        let members = line.iter().fold(0u64, |m, &i| m | 1 << i);
+        let back = *line.last().expect("non-empty");
+        let pusher_at = push::centred_pusher(inst, placement, &line, dir);
+        let arm = push_arms(inst, back)[0];
+        let mut blockers = Vec::new();
+        for gaps in 0u64..1 << (line.len() - 1) {
+            // Smallest offsets of the pattern, in steps of `d`.
+            let mut smallest = Vec::with_capacity(line.len());
+            for t in 0..line.len() {
+                smallest.push(if t == 0 {
+                    1
+                } else {
+                    smallest[t - 1] + (gaps >> (t - 1) & 1) as usize
+                });
+            }
+            if line.iter().zip(&smallest).any(|(&i, &m)| m > steps[i][k]) {
+                continue;
+            }
+            let (layout, a) = released_line(inst, placement, &line, dir, &smallest, pusher_at, arm);
+            if layout.check(&a).is_err() {
+                continue;
+            }
+            // Some offsets of the pattern must also let the members be put down, in some
+            // order, and pushed (the finger slabs of touching releases collide, so touching
+            // patterns often cannot be released at all). Past the work budget a pattern is
+            // kept unchecked, which only weakens the bound.
+            let mut offsets = smallest.clone();
+            if *budget > 0 {
+                let found = any_offsets(
+                    inst,
+                    placement,
+                    &line,
+                    k,
+                    gaps,
+                    steps,
+                    &mut offsets,
+                    0,
+                    pusher_at,
+                    arm,
+                    budget,
+                );
+                // `false` with the budget spent means "not known": keep the pattern.
+                if !found && *budget > 0 {
+                    continue;
+                }
+            }
+            let mut layout = layout;
+            let mut b = 0u64;
+            for j in (0..n).filter(|j| members >> j & 1 == 0) {
+                layout.state[j] = ObjState::Done;
+                if layout.check(&a).is_err() {
+                    b |= 1 << j;
+                }
+                layout.state[j] = ObjState::Table;
+            }
+            blockers.push(b);
+        }
+        if !blockers.is_empty() {
+            // A pattern blocked by a superset of another's blockers adds nothing.
+            blockers.sort_by_key(|b| b.count_ones());
+            let mut kept: Vec<u64> = Vec::new();
+            for b in blockers {
+                if !kept.iter().any(|&c| c & !b == 0) {
+                    kept.push(b);
+                }
+            }
+            out.push(PushLine {
+                dir: k,
+                members,
+                blockers: kept,
+            });
+        }
+    }
+    Some(out)
+}
+
+/// Layout checks [`push_lines`] may spend on whether lines can be released.
+const MAX_RELEASE_CHECKS: usize = 200_000;
+
+/// A layout with the members of `line` released at `offsets` (steps of `d`) and nothing else in
+/// the container, and the push of the line.
+fn released_line<'a>(
+    inst: &'a Instance,
+    placement: &'a Placement,
+    line: &[usize],
+    dir: PushDir,
+    offsets: &[usize],
+    pusher_at: f64,
+    arm: Arm,
+) -> (Layout<'a>, Action) {
+    let d = inst.gripper.min_offset;
+    let layout = with_released(inst, placement, line.iter().copied().zip(offsets.iter().copied()), dir);
+    let a = Action::Push {
+        objects: line.to_vec(),
+        push_dir: dir,
+        distance: d * *offsets.last().expect("non-empty") as f64,
+        pusher_at,
+        arm,
+    };
+    (layout, a)
+}
+
+/// A layout with `(object, offset steps)` released for a push along `dir`, nothing else in
+/// the container.
+fn with_released<'a>(
+    inst: &'a Instance,
+    placement: &'a Placement,
+    released: impl Iterator<Item = (usize, usize)>,
+    dir: PushDir,
+) -> Layout<'a> {
+    let mut layout = Layout::new(inst, placement);
+    for (i, m) in released {
+        let offset = inst.gripper.min_offset * m as f64;
+        let mode = PlaceMode::Indirect { push_dir: dir, offset };
+        layout.state[i] = ObjState::Released {
+            rect: layout.release_rect(i, &mode),
+            push_dir: dir,
+            offset,
+        };
+    }
+    layout
+}
+
+/// Whether some offsets of gap pattern `gaps` (within each member's step limit), filled in from
+/// position `t` on, let the line's members be released in some order and then pushed, with
+/// nothing else in the container. Spends `budget` layout checks; `false` with the budget at
+/// zero means "not known".
+#[allow(clippy::too_many_arguments)]
+fn any_offsets(
+    inst: &Instance,
+    placement: &Placement,
+    line: &[usize],
+    k: usize,
+    gaps: u64,
+    steps: &[[usize; 2]],
+    offsets: &mut Vec<usize>,
+    t: usize,
+    pusher_at: f64,
+    arm: Arm,
+    budget: &mut usize,
+) -> bool {
+    if *budget == 0 {
+        return false;
+    }
+    if t == line.len() {
+        let dir = PushDir::ALL[k];
+        let (layout, a) = released_line(inst, placement, line, dir, offsets, pusher_at, arm);
+        *budget = budget.saturating_sub(1);
+        if layout.check(&a).is_err() {
+            return false;
+        }
+        let mut failed = vec![false; 1 << line.len()];
+        return releasable(inst, placement, line, dir, offsets, 0, &mut failed, budget);
+    }
+    let lo = if t == 0 {
+        1
+    } else {
+        offsets[t - 1] + (gaps >> (t - 1) & 1) as usize
+    };
+    // Without a gap the offset repeats the one in front; with one, any larger offset will do.
+    let hi = if t > 0 && gaps >> (t - 1) & 1 == 0 {
+        lo
+    } else {
+        steps[line[t]][k]
+    };
+    for m in lo..=hi.min(steps[line[t]][k]) {
+        offsets[t] = m;
+        if any_offsets(
+            inst,
+            placement,
+            line,
+            k,
+            gaps,
+            steps,
+            offsets,
+            t + 1,
+            pusher_at,
+            arm,
+            budget,
+        ) {
+            return true;
+        }
+        if *budget == 0 {
+            return false;
+        }
+    }
+    false
+}
+
+/// Whether the members of `line` not in `placed` (bit per position) can be released at
+/// `offsets` in some order after those in `placed`, with nothing else in the container.
+#[allow(clippy::too_many_arguments)]
+fn releasable(
+    inst: &Instance,
+    placement: &Placement,
+    line: &[usize],
+    dir: PushDir,
+    offsets: &[usize],
+    placed: usize,
+    failed: &mut [bool],
+    budget: &mut usize,
+) -> bool {
+    if placed == (1 << line.len()) - 1 {
+        return true;
+    }
+    if failed[placed] || *budget == 0 {
+        return false;
+    }
+    let d = inst.gripper.min_offset;
+    let here = line
+        .iter()
+        .zip(offsets)
+        .enumerate()
+        .filter(|(t, _)| placed >> t & 1 == 1)
+        .map(|(_, (&i, &m))| (i, m));
+    let layout = with_released(inst, placement, here, dir);
+    for (t, (&i, &m)) in line.iter().zip(offsets).enumerate() {
+        if placed >> t & 1 == 1 {
+            continue;
+        }
+        let mode = PlaceMode::Indirect {
+            push_dir: dir,
+            offset: d * m as f64,
+        };
+        let ok = [Axis2::X, Axis2::Y].into_iter().any(|ax| {
+            *budget = budget.saturating_sub(1);
+            layout
+                .check(&Action::Place {
+                    object: i,
+                    mode,
+                    grasp_axis: ax,
+                    arm: pick_arm(inst, i),
+                })
+                .is_ok()
+        });
+        if ok && releasable(inst, placement, line, dir, offsets, placed | 1 << t, failed, budget) {
+            return true;
+        }
+    }
+    if *budget > 0 {
+        failed[placed] = true;
+    }
+    false
+}
+
 /// Whether `b`'s target sits directly behind `a`'s along `dir` (touching, with lateral
 /// overlap): the one edge every line of a push is made of.
 fn behind(placement: &Placement, dir: PushDir, a: usize, b: usize) -> bool {
@@ -1170,8 +1633,16 @@ pub fn solve(
     // Slices in calls of `fits` (about 10 µs each on the paper's instances).
     let mut slice: u64 = 2_000;
     let mut improved = 0usize;
+    let trace = std::env::var_os("PUSHPACK_DEBUG").is_some();
     loop {
         let hi = incumbent.as_ref().map(|(c, _)| c.len);
+        if trace {
+            eprintln!(
+                "phase 1 at {:.2}s: proven >= {len_lo}, plan {hi:?}, {} calls, slice {slice}",
+                start.elapsed().as_secs_f64(),
+                s.calls.get()
+            );
+        }
         if let Some(h) = hi.filter(|&h| len_lo >= h) {
             s.lstar.set(Some(h)); // the incumbent's length is proven minimal
             break;
