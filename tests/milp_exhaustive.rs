@@ -147,16 +147,23 @@ fn bl_and_milp(inst: &Instance, seed: u64) -> (PlacementResult, PlacementResult)
     (blr, r)
 }
 
+/// Object count (2 up to `1 + sizes`), number of kinds and orientations of the random
+/// instance for `seed`: the exhaustive tests cycle through them so every combination occurs.
+fn seed_shape(seed: u64, sizes: usize) -> (usize, usize, &'static str) {
+    let n = 2 + (seed as usize % sizes);
+    let kinds = 1 + (seed as usize % 3);
+    let ori = if seed % 3 == 0 { "upright" } else { "any" };
+    (n, kinds, ori)
+}
+
 #[test]
 fn milp_matches_exhaustive_enumeration_on_random_small_instances() {
     let mut checked = 0;
     let mut improved_over_bl = 0;
     for seed in 0..52u64 {
-        let n = 2 + (seed as usize % 5); // 2..=6 objects
-        let kinds = 1 + (seed as usize % 3);
-        let ori = if seed % 3 == 0 { "upright" } else { "any" };
-        // Box edges on a 5 mm grid (product sizes), and on a 1 mm grid for up to 4 objects:
-        // 1 mm edges make the MILP's grid fine and its run long (docs/benchmarks.md).
+        let (n, kinds, ori) = seed_shape(seed, 5); // 2..=6 objects
+                                                   // Box edges on a 5 mm grid (product sizes), and on a 1 mm grid for up to 4 objects:
+                                                   // 1 mm edges make the MILP's grid fine and its run long (docs/benchmarks.md).
         let step = if n <= 4 && seed % 2 == 0 { 1 } else { 5 };
         let inst = common::parse(&common::random_instance_text_step(1000 + seed, n, kinds, ori, step));
         let (blr, r) = bl_and_milp(&inst, seed);
@@ -445,9 +452,7 @@ fn milp_contact_length_matches_exhaustive_enumeration() {
     let mut checked = 0;
     let mut tied_extents = 0;
     for seed in 0..40u64 {
-        let n = 2 + (seed as usize % 4); // 2..=5 objects
-        let kinds = 1 + (seed as usize % 3);
-        let ori = if seed % 3 == 0 { "upright" } else { "any" };
+        let (n, kinds, ori) = seed_shape(seed, 4); // 2..=5 objects
         let inst = common::parse(&common::random_instance_text_step(2000 + seed, n, kinds, ori, 5));
         let (blr, r) = bl_and_milp(&inst, seed);
         assert_eq!(r.status, PlacementStatus::Optimal, "seed {seed}");
