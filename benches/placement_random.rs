@@ -14,7 +14,7 @@ use pushpack::instance::Instance;
 use pushpack::placement::{bl, milp, PlacementStatus};
 
 mod common;
-use common::{arg, median};
+use common::{arg, median, seeds};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -24,14 +24,7 @@ fn main() {
         .collect();
     let count: u64 = arg(&args, "--count", 10);
     let limit: f64 = arg(&args, "--time-limit", 60.0);
-    // `--seeds 3,7` runs just those seeds (for instrumented reruns of single instances).
-    let seeds: Vec<u64> = match args.iter().position(|a| a == "--seeds") {
-        Some(i) => args
-            .get(i + 1)
-            .map(|v| v.split(',').filter_map(|s| s.parse().ok()).collect())
-            .unwrap_or_default(),
-        None => (0..count).collect(),
-    };
+    let seeds = seeds(&args, count);
     let count = seeds.len() as u64;
     println!("| objects | instances | proven | share proven | median time to proof (s) | max time to proof (s) | mean gap at limit | mean area gain over BL |");
     println!("|---|---|---|---|---|---|---|---|");

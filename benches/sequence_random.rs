@@ -10,7 +10,7 @@
 //! (incumbent − proven lower bound: actions, swept area in cm², travel in m). Run:
 //!
 //! ```sh
-//! cargo bench --bench sequence_random -- [--sizes 6,8,10,12,16,20] [--count 10] [--time-limit 60] \
+//! cargo bench --bench sequence_random -- [--sizes 6,8,10,12,16,20] [--count 10] [--seeds 0,3] [--time-limit 60] \
 //!     [--sequencers astar,paper] [--no-exp2] [--exp2-repeats 3] [--exp2-time-limit 60]
 //! ```
 //!
@@ -25,7 +25,7 @@ use pushpack::sequence::astar::{self, AstarSettings, Cost};
 use pushpack::sequence::{paper, SearchStatus, SequenceOptions, SequenceResult};
 
 mod common;
-use common::{arg, median};
+use common::{arg, median, seeds};
 
 fn mean(v: &[f64]) -> f64 {
     if v.is_empty() {
@@ -73,6 +73,8 @@ fn main() {
         .filter_map(|s| s.parse().ok())
         .collect();
     let count: u64 = arg(&args, "--count", 10);
+    let seeds = seeds(&args, count);
+    let count = seeds.len();
     let limit: f64 = arg(&args, "--time-limit", 60.0);
     let sequencers: Vec<String> = arg(&args, "--sequencers", "astar,paper".to_string())
         .split(',')
@@ -143,7 +145,7 @@ fn main() {
             let mut finished = 0;
             let mut instances = 0;
             let mut note = Vec::new();
-            for seed in 0..count {
+            for &seed in &seeds {
                 let kinds = 2 + (seed as usize % 3);
                 let text = to_toml(&random_instance(&GenerateParams::new(n, kinds.min(n), seed)).expect("valid"));
                 let inst = Instance::parse(&text, false, "<bench>", None).expect("generated instances validate");
