@@ -187,6 +187,13 @@ impl Rect {
     pub fn area(&self) -> f64 {
         self.width() * self.depth()
     }
+    /// Euclidean distance from point `p` to the rectangle (0 inside).
+    pub fn distance_to(&self, p: [f64; 2]) -> f64 {
+        let dx = (self.x0 - p[0]).max(p[0] - self.x1).max(0.0);
+        let dy = (self.y0 - p[1]).max(p[1] - self.y1).max(0.0);
+        // Not `hypot`: its overflow care costs more than the search's many calls can afford.
+        (dx * dx + dy * dy).sqrt()
+    }
     /// Centre point.
     pub fn center(&self) -> [f64; 2] {
         [(self.x0 + self.x1) / 2.0, (self.y0 + self.y1) / 2.0]

@@ -81,6 +81,17 @@ impl Container {
         )
     }
 
+    /// A world point in C (the inverse of [`Container::to_world`]).
+    pub fn from_world(&self, p: &Vector3<f64>) -> [f64; 3] {
+        let (s, c) = self.yaw.sin_cos();
+        let (x, y) = (p.x - self.center[0], p.y - self.center[1]);
+        [
+            c * x + s * y + self.width / 2.0,
+            -s * x + c * y + self.depth / 2.0,
+            p.z - self.floor_z,
+        ]
+    }
+
     /// The four walls as boxes in C (they stand outside the floor rectangle).
     pub fn walls(&self) -> [Box3; 4] {
         let t = self.wall_thickness;

@@ -8,8 +8,8 @@
 //! the lexicographic triple (actions, swept area, travel): actions and travel add up along a
 //! path, swept area is a running maximum. The heuristic bounds each component from below
 //! (docs/algorithms.md), which bounds the triple lexicographically, so the first goal popped is
-//! optimal. States reached again keep a Pareto set of (actions, area, travel) labels; a
-//! dominated label is dropped. A greedy dive gives an incumbent first, so nodes whose bound is
+//! optimal. Object states reached again keep a Pareto set of (actions, extents, travel, arm
+//! positions) labels; a label dominated even after paying for the arms' distance is dropped. A greedy dive gives an incumbent first, so nodes whose bound is
 //! not below it are never opened. With a node or time limit the best plan found is returned with
 //! the smallest open bound (status `node_limit`/`time_limit`).
 //!
@@ -76,12 +76,14 @@ impl Cost {
     }
 }
 
-/// A path label at a state: what the future cost depends on besides the state itself.
+/// A path label at an object state: what the future cost depends on besides the object
+/// states themselves.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Label {
     len: usize,
     ext: [f64; 2],
     travel: f64,
+    pos: [Vector3<f64>; 2],
 }
 
 impl Label {
@@ -90,14 +92,22 @@ impl Label {
             len: n.g.len,
             ext: n.ext,
             travel: n.g.travel,
+            pos: n.pos,
         }
     }
-    /// Every completion from the same state costs no more with this label.
+    /// Every completion from the same object state costs no more with this label.
+    ///
+    /// The same actions run from either label (feasibility and reachability do not depend on
+    /// where the arms are), with the same count and swept extents grown the same way. Travel
+    /// is a sum of straight moves, so by the triangle inequality each arm's first move (or its
+    /// return home, if it does nothing more) from here costs at most its distance to the other
+    /// label's position more. An arm that has not moved stands at home, where the other label
+    /// pays its return from anywhere else, so whether it moved does not matter.
     fn dominates(&self, o: &Label) -> bool {
         self.len <= o.len
             && self.ext[0] <= o.ext[0] + 1e-12
             && self.ext[1] <= o.ext[1] + 1e-12
-            && self.travel <= o.travel + 1e-9
+            && self.travel + (self.pos[0] - o.pos[0]).norm() + (self.pos[1] - o.pos[1]).norm() <= o.travel + 1e-9
     }
 }
 
@@ -158,8 +168,6 @@ struct ObjectInfo {
     pick_vertical: f64,
     /// Vertical travel of the release (down and up).
     release_vertical: f64,
-    /// World TCP position above the target centre.
-    above_target: Vector3<f64>,
     /// No direct placement can ever work (both grasp axes blocked by walls or the opening).
     never_direct: bool,
     /// Extents (x1, y1) of the nearest indirect release in each direction that fits the floor.
@@ -167,6 +175,13 @@ struct ObjectInfo {
     /// Per push direction (indexed like [`PushDir::ALL`]): whether any indirect release fits
     /// the floor, so the object can ever be pushed that way.
     push_dir_ok: [bool; 2],
+    /// Pre-grasp (x, y) in C.
+    pre_grasp_c: [f64; 2],
+    /// Where in C (x, y, at transfer height) an action that places or pushes this object can
+    /// end: above any of its releases, or just behind its target after a push.
+    end_region: crate::geometry::Rect,
+    /// Shortest horizontal move from the pre-grasp to above any release of the object.
+    transfer_min: f64,
 }
 
 struct Search<'a> {
@@ -189,6 +204,8 @@ struct Search<'a> {
     /// Largest offset step per object and push direction (indexed like [`PushDir::ALL`]).
     steps: Vec<[usize; 2]>,
     home: [Vector3<f64>; 2],
+    /// Each arm's home TCP (x, y) in C.
+    home_c: [[f64; 2]; 2],
     /// Container floor at transfer height, as a world-frame rectangle test (min distance).
     container_corners: [Vector3<f64>; 4],
     push_vertical: f64,
@@ -315,19 +332,6 @@ enum DiveOrder {
     FrontFirst,
 }
 
-/// Key of a search node: object states, then each arm's TCP (rounded to a micrometre) and
-/// whether it has moved.
-fn key(n: &Node, d: f64) -> Vec<u8> {
-    let mut k = obj_key(&n.state, d);
-    for (p, u) in n.pos.iter().zip(n.used) {
-        for c in p.iter() {
-            k.extend_from_slice(&((c * 1e6).round() as i64).to_le_bytes());
-        }
-        k.push(u as u8);
-    }
-    k
-}
-
 impl<'a> Search<'a> {
     fn new(inst: &'a Instance, placement: &'a Placement, opts: SequenceOptions, settings: AstarSettings) -> Self {
         let zt = transfer_z(inst);
@@ -335,6 +339,35 @@ impl<'a> Search<'a> {
         let layout = Layout::new(inst, placement);
         let floor = inst.container.floor();
         let walls = inst.container.walls();
+        let ranks = PushDir::ALL.map(|dir| line_rank(placement, dir));
+        let steps: Vec<[usize; 2]> = (0..inst.n())
+            .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
+            .collect();
+        // Per push direction and object, the lateral range of the pusher of any line ending at
+        // it: the pusher is centred on a weighted mean of the members' lateral centres, and the
+        // members are objects in front of it (transitively).
+        let pusher_range = PushDir::ALL.map(|dir| {
+            let lat = dir.axis().other();
+            let centre = |i: usize| {
+                let r = placement.targets[i].rect;
+                (r.lo(lat) + r.hi(lat)) / 2.0
+            };
+            let mut order: Vec<usize> = (0..inst.n()).collect();
+            order.sort_by(|&a, &b| {
+                let lo = |i: usize| placement.targets[i].rect.lo(dir.axis());
+                lo(a).total_cmp(&lo(b))
+            });
+            let mut range: Vec<[f64; 2]> = (0..inst.n()).map(|i| [centre(i), centre(i)]).collect();
+            // Front to back: everything in front of `b` is done before it.
+            for (k, &b) in order.iter().enumerate() {
+                for &a in &order[..k] {
+                    if behind(placement, dir, a, b) {
+                        range[b] = [range[b][0].min(range[a][0]), range[b][1].max(range[a][1])];
+                    }
+                }
+            }
+            range
+        });
         let info: Vec<ObjectInfo> = (0..inst.n())
             .map(|i| {
                 let o = &inst.objects[i];
@@ -357,11 +390,58 @@ impl<'a> Search<'a> {
                     .filter(|r| r.inside(&floor))
                     .map(|r| [r.x1, r.y1])
                     .collect();
+                let pre_grasp = Vector3::new(o.table.x, o.table.y, zt);
+                let pc = inst.container.from_world(&pre_grasp);
+                let pre_grasp_c = [pc[0], pc[1]];
+                // Releases go against the push direction (+x or +y in C) by up to the object's
+                // largest offset; a push ends with the fingers half a thickness behind the
+                // target, within its lateral extent.
+                let reach = [0, 1].map(|k| {
+                    if push_dir_ok[k] {
+                        g.min_offset * steps[i][k] as f64
+                    } else {
+                        0.0
+                    }
+                });
+                let half_t = g.finger_thickness / 2.0;
+                // Bounding box of the release centres and of the push ends.
+                let mut end_region = crate::geometry::Rect {
+                    x0: c[0],
+                    y0: c[1],
+                    x1: c[0] + reach[0],
+                    y1: c[1] + reach[1],
+                };
+                if push_dir_ok[0] {
+                    let [lo, hi] = pusher_range[0][i];
+                    end_region = end_region.union(&crate::geometry::Rect {
+                        x0: t.rect.x1 + half_t,
+                        x1: t.rect.x1 + half_t,
+                        y0: lo,
+                        y1: hi,
+                    });
+                }
+                if push_dir_ok[1] {
+                    let [lo, hi] = pusher_range[1][i];
+                    end_region = end_region.union(&crate::geometry::Rect {
+                        x0: lo,
+                        x1: hi,
+                        y0: t.rect.y1 + half_t,
+                        y1: t.rect.y1 + half_t,
+                    });
+                }
+                let seg = |u: [f64; 2], len: f64| {
+                    let v = [pre_grasp_c[0] - c[0], pre_grasp_c[1] - c[1]];
+                    let s = (v[0] * u[0] + v[1] * u[1]).clamp(0.0, len);
+                    (v[0] - s * u[0]).hypot(v[1] - s * u[1])
+                };
+                let transfer_min = seg([1.0, 0.0], reach[0]).min(seg([0.0, 1.0], reach[1]));
                 ObjectInfo {
-                    pre_grasp: Vector3::new(o.table.x, o.table.y, zt),
+                    pre_grasp_c,
+                    end_region,
+                    transfer_min,
+                    pre_grasp,
                     pick_vertical: 2.0 * (zt - grasp_z),
                     release_vertical: 2.0 * (zt - release.z),
-                    above_target: Vector3::new(release.x, release.y, zt),
                     never_direct: never_direct || opts.no_direct,
                     release_ext,
                     push_dir_ok,
@@ -374,10 +454,6 @@ impl<'a> Search<'a> {
             let p = inst.container.to_world([x, y, 0.0]);
             Vector3::new(p.x, p.y, zt)
         });
-        let ranks = PushDir::ALL.map(|dir| line_rank(placement, dir));
-        let steps: Vec<[usize; 2]> = (0..inst.n())
-            .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
-            .collect();
         let behind = PushDir::ALL.map(|dir| {
             (0..inst.n())
                 .map(|a| {
@@ -418,11 +494,17 @@ impl<'a> Search<'a> {
             slab_hits,
             steps,
             home: [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)],
+            home_c: [Arm::Left, Arm::Right].map(|a| {
+                let p = inst.container.from_world(&inst.robot.home_tcp(a));
+                [p[0], p[1]]
+            }),
             container_corners,
             push_vertical: 2.0 * (zt - (inst.container.floor_z + g.push_height)),
             reach: crate::robot::reach_cache::ReachCache::new(inst, placement),
             succ_cache: RefCell::new(FxMap::default()),
-            len_memo: RefCell::new(FxMap::default()),
+            // Phase 1 stores millions of states on twelve objects: start large enough that the
+            // first rehashes do not matter.
+            len_memo: RefCell::new(FxMap::with_capacity_and_hasher(1 << 16, Default::default())),
             lstar: Cell::new(None),
             stop: None,
             stopped: Cell::new(false),
@@ -530,7 +612,7 @@ impl<'a> Search<'a> {
         }
         let k = obj_key(state, self.inst.gripper.min_offset);
         let known = self.len_memo.borrow().get(&k).copied();
-        let (lo, hi) = known.unwrap_or_else(|| (self.lower_len(state), usize::MAX));
+        let (lo, hi) = known.unwrap_or_else(|| (self.lower_len(state, 0), usize::MAX));
         if hi <= budget {
             return Some(hi);
         }
@@ -546,7 +628,7 @@ impl<'a> Search<'a> {
         for (a, _) in succ.iter() {
             let mut l = self.layout(state);
             l.apply(a);
-            let lo = self.lower_len(&l.state);
+            let lo = self.lower_len(&l.state, lo.saturating_sub(1));
             if lo < budget {
                 kids.push((lo, l.state, a));
             }
@@ -572,7 +654,11 @@ impl<'a> Search<'a> {
 
     /// The remaining-actions lower bound of `state`: the memo's, else table objects plus the
     /// push bound.
-    fn lower_len(&self, state: &[ObjState]) -> usize {
+    ///
+    /// `floor` is a bound already proven (0 when none): the parent's less one, since one action
+    /// leads here from there. The push bound's search starts from it instead of refuting again
+    /// the sizes below it.
+    fn lower_len(&self, state: &[ObjState], floor: usize) -> usize {
         if state.iter().all(|s| *s == ObjState::Done) {
             return 0;
         }
@@ -581,7 +667,8 @@ impl<'a> Search<'a> {
             return lo;
         }
         // Stored: a sibling order is asked for again on every visit of the parent.
-        let lo = state.iter().filter(|s| **s == ObjState::Table).count() + self.push_lower_bound(state).0;
+        let table = state.iter().filter(|s| **s == ObjState::Table).count();
+        let lo = (table + self.push_lower_bound(state, floor.saturating_sub(table)).0).max(floor);
         self.len_memo.borrow_mut().insert(k, (lo, usize::MAX));
         lo
     }
@@ -672,10 +759,28 @@ impl<'a> Search<'a> {
         (Fit::No, None)
     }
 
+    /// The objects that need a push: released ones, and table objects no direct placement can
+    /// take any more.
+    fn must_push(&self, state: &[ObjState]) -> Vec<usize> {
+        let done: Vec<usize> = (0..self.inst.n()).filter(|&i| state[i] == ObjState::Done).collect();
+        let done_mask = done.iter().fold(0u64, |m, &i| m | 1u64 << (i % 64));
+        (0..self.inst.n())
+            .filter(|&i| match state[i] {
+                ObjState::Released { .. } => true,
+                ObjState::Table if self.push_lines.is_some() => {
+                    self.info[i].never_direct || self.slab_hits[i].iter().flatten().all(|&m| m & done_mask != 0)
+                }
+                ObjState::Table => self.info[i].never_direct || self.direct_blocked(i, &done),
+                ObjState::Done => false,
+            })
+            .collect()
+    }
+
     /// Lower bound on the pushes still needed, and the objects that need one.
-    fn push_lower_bound(&self, state: &[ObjState]) -> (usize, Vec<usize>) {
+    /// `floor` is a number of pushes already proven necessary.
+    fn push_lower_bound(&self, state: &[ObjState], floor: usize) -> (usize, Vec<usize>) {
         if let Some(pl) = &self.push_lines {
-            return self.line_cover_bound(pl, state);
+            return self.line_cover_bound(pl, state, floor);
         }
         let inst = self.inst;
         let done: Vec<usize> = (0..inst.n()).filter(|&i| state[i] == ObjState::Done).collect();
@@ -748,7 +853,7 @@ impl<'a> Search<'a> {
     /// usable line serves together need two pushes, so a largest set of pairwise unshareable
     /// demands bounds the pushes. A demand that no usable line serves at all makes the state a
     /// dead end ([`DEAD_END`]).
-    fn line_cover_bound(&self, lines: &[PushLine], state: &[ObjState]) -> (usize, Vec<usize>) {
+    fn line_cover_bound(&self, lines: &[PushLine], state: &[ObjState], floor: usize) -> (usize, Vec<usize>) {
         let mut done = 0u64;
         let mut allow = [0u64; 2];
         for (i, s) in state.iter().enumerate() {
@@ -802,20 +907,40 @@ impl<'a> Search<'a> {
                 }
             }
         }
-        if demands.is_empty() {
-            return (0, needs_push);
+        // Per object, the demands it serves (bit per demand).
+        let mut demands_of = [0u64; 64];
+        for (y, &dm) in demands.iter().enumerate() {
+            let mut m = dm;
+            while m != 0 {
+                let o = m.trailing_zeros() as usize;
+                m &= m - 1;
+                demands_of[o] |= 1 << y;
+            }
         }
         let mut served = 0u64;
         let mut adj = vec![0u64; demands.len()];
+        // Usable lines, each with the objects that block every usable pattern of it once done.
+        let mut usable: Vec<(u64, u64)> = Vec::new();
         for l in lines {
-            if l.members & !allow[l.dir] != 0 || l.blockers.iter().all(|b| b & done != 0) {
+            if l.members & !allow[l.dir] != 0 {
                 continue;
             }
-            let here = demands
+            let Some(stuck) = l
+                .blockers
                 .iter()
-                .enumerate()
-                .filter(|&(_, &dm)| dm & l.members != 0)
-                .fold(0u64, |m, (y, _)| m | 1 << y);
+                .filter(|&&b| b & done == 0)
+                .fold(None, |acc: Option<u64>, &b| Some(acc.map_or(b, |a| a & b)))
+            else {
+                continue;
+            };
+            usable.push((l.members, stuck));
+            let mut here = 0u64;
+            let mut m = l.members;
+            while m != 0 {
+                let o = m.trailing_zeros() as usize;
+                m &= m - 1;
+                here |= demands_of[o];
+            }
             served |= here;
             let mut m = here;
             while m != 0 {
@@ -832,7 +957,34 @@ impl<'a> Search<'a> {
         if served != all {
             return (DEAD_END, needs_push);
         }
-        (max_independent(&adj), needs_push)
+        let unshareable = max_independent(&adj);
+        let open = (0..state.len()).fold(0u64, |m, i| m | 1 << i) & !done;
+        let mut block = [0u64; 64];
+        for &(i, m) in &direct_need {
+            block[i] = m & open;
+        }
+        let must = needs_push.iter().fold(0u64, |m, &i| m | 1 << i);
+        if usable.len() > 64 {
+            return (unshareable.max(floor), needs_push); // beyond the line masks of the cover search
+        }
+        let mut lines_of = [0u64; 64];
+        for (l, &(members, _)) in usable.iter().enumerate() {
+            let mut m = members;
+            while m != 0 {
+                let o = m.trailing_zeros() as usize;
+                m &= m - 1;
+                lines_of[o] |= 1 << l;
+            }
+        }
+        let cover = Cover {
+            open,
+            must,
+            block: &block,
+            lines: &usable,
+            lines_of: &lines_of,
+            steps: Cell::new(0),
+        };
+        (cover.min_lines(unshareable.max(floor)), needs_push)
     }
 
     /// With `exact`, and once the minimum number of actions is proven, the remaining pushes come
@@ -840,9 +992,10 @@ impl<'a> Search<'a> {
     fn h(&self, n: &Node, exact: bool) -> Cost {
         let inst = self.inst;
         let table: Vec<usize> = (0..inst.n()).filter(|&i| n.state[i] == ObjState::Table).collect();
-        // Pushes still needed: exact (given the proven minimum) once that is known, else a bound
-        // from objects that need a push and cannot share one.
-        let (mut pushes, needs_push) = self.push_lower_bound(&n.state);
+        // Pushes still needed: exact (given the proven minimum) once that is known, else the
+        // push bound (memoised with phase 1's facts in `lower_len`).
+        let mut pushes = self.lower_len(&n.state, 0).saturating_sub(table.len());
+        let needs_push = self.must_push(&n.state);
         if let Some(l) = self.lstar.get().filter(|_| exact) {
             let budget = l.saturating_sub(n.g.len);
             // Remaining actions: exactly `budget` when it fits (no plan beats L*), else more.
@@ -868,25 +1021,42 @@ impl<'a> Search<'a> {
         }
         // Travel: each remaining place's own vertical and transfer moves, its approach from the
         // nearest possible predecessor, each push's vertical moves and distance, and going home.
+        // Every action ends above the end region of an object not yet done (its release, or
+        // just behind it after a push), so the move into a pick starts from the arm's current
+        // position or from one of those regions.
         let d = inst.gripper.min_offset;
-        let max_off = d * self.steps.iter().flatten().copied().max().unwrap_or(1) as f64;
+        let open: Vec<usize> = (0..inst.n()).filter(|&i| n.state[i] != ObjState::Done).collect();
+        let from_ends = |p: [f64; 2], except: usize| {
+            open.iter()
+                .filter(|&&j| j != except)
+                .map(|&j| self.info[j].end_region.distance_to(p))
+                .fold(f64::INFINITY, f64::min)
+        };
         let mut travel = 0.0;
         for &i in &table {
             let inf = &self.info[i];
-            let approach = self
-                .dist_to_container(&inf.pre_grasp)
-                .min((inf.pre_grasp - n.pos[0]).norm())
-                .min((inf.pre_grasp - n.pos[1]).norm());
-            let transfer =
-                ((inf.pre_grasp - inf.above_target).norm() - max_off).max(self.dist_to_container(&inf.pre_grasp));
+            let arm = pick_arm(inst, i).index();
+            let approach = from_ends(inf.pre_grasp_c, i).min((inf.pre_grasp - n.pos[arm]).norm());
+            let transfer = inf.transfer_min.max(self.dist_to_container(&inf.pre_grasp));
             travel += approach + inf.pick_vertical + transfer + inf.release_vertical;
         }
         travel += pushes as f64 * (self.push_vertical + d);
         for k in 0..2 {
             let arm = if k == 0 { Arm::Left } else { Arm::Right };
-            let more = table.iter().any(|&i| pick_arm(inst, i) == arm) || (any_released && n.used[k]);
-            if more {
-                travel += self.dist_to_container(&self.home[k]);
+            let picks = table.iter().any(|&i| pick_arm(inst, i) == arm);
+            // An arm that still acts ends its last action above the end region of an object not
+            // done now; one that may only push may also stop now, where it stands.
+            let home_c = self.home_c[k];
+            let from_last = || {
+                open.iter()
+                    .map(|&j| self.info[j].end_region.distance_to(home_c))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            if picks {
+                travel += self.dist_to_container(&self.home[k]).max(from_last());
+            } else if any_released && n.used[k] {
+                let stop_now = (self.home[k] - n.pos[k]).norm();
+                travel += self.dist_to_container(&self.home[k]).max(from_last().min(stop_now));
             } else if n.used[k] {
                 travel += (self.home[k] - n.pos[k]).norm();
             }
@@ -1167,6 +1337,216 @@ fn max_independent(adj: &[u64]) -> usize {
         &mut best,
     );
     best
+}
+
+/// Depth-first steps [`Cover::min_lines`] may take on one state before it settles for the
+/// size it has not yet refuted (still a lower bound).
+const MAX_COVER_STEPS: usize = 48;
+
+/// The push bound of one state as a covering problem: which usable lines, pushed, could finish
+/// the objects still open (see [`Cover::min_lines`]).
+struct Cover<'s> {
+    /// Objects not at their targets.
+    open: u64,
+    /// Objects that must be pushed: released ones, and table objects no direct placement can
+    /// ever take.
+    must: u64,
+    /// Per table object that may still be placed directly: the open objects that stand in every
+    /// finger slab it could use, so they must reach their targets after it is placed.
+    block: &'s [u64],
+    /// Usable lines (at most 64): members, and the objects that block every usable gap
+    /// pattern once done.
+    lines: &'s [(u64, u64)],
+    /// Per object, the usable lines it is a member of (bit per line).
+    lines_of: &'s [u64],
+    steps: Cell<usize>,
+}
+
+impl Cover<'_> {
+    /// A lower bound on the pushes still needed: the fewest disjoint usable lines that cover
+    /// every object that must be pushed and leave the rest placeable directly in some order,
+    /// starting from `from` (a bound already proven). [`DEAD_END`] when no set of lines does.
+    ///
+    /// Every plan pushes a set of disjoint lines (a pushed object is done for good), each
+    /// usable now (done objects stay done), covering the objects that must be pushed; every
+    /// other open object is placed directly. Each object reaches its target once: a direct one
+    /// when it is placed, a line's members when the line is pushed. Those moments must respect
+    /// two orders: a directly placed object goes down before every object in its finger slabs
+    /// is done (`block`), and a line is pushed before each object that blocks all its usable
+    /// gap patterns is done. A cycle among them means no plan pushes exactly those lines. So
+    /// the pushes of any plan form a cover in this sense, and the fewest lines of one bound
+    /// its pushes from below. Found by iterative deepening on the number of lines; past
+    /// [`MAX_COVER_STEPS`] the search returns the smallest size it has not refuted.
+    fn min_lines(&self, from: usize) -> usize {
+        let max = self.open.count_ones() as usize;
+        for k in from..=max {
+            match self.search(k, 0, &mut Vec::new()) {
+                Some(true) | None => return k,
+                Some(false) => {}
+            }
+        }
+        DEAD_END
+    }
+
+    /// Whether `left` more disjoint lines, added to `chosen` (members `cov`), make a cover;
+    /// `None` when the step budget ran out first.
+    fn search(&self, left: usize, cov: u64, chosen: &mut Vec<usize>) -> Option<bool> {
+        let steps = self.steps.get() + 1;
+        self.steps.set(steps);
+        if steps > MAX_COVER_STEPS {
+            return None;
+        }
+        // Lines disjoint from those chosen.
+        let mut taken = 0u64;
+        let mut m = cov;
+        while m != 0 {
+            let o = m.trailing_zeros() as usize;
+            m &= m - 1;
+            taken |= self.lines_of[o];
+        }
+        let candidates = |o: usize| self.lines_of[o] & !taken;
+        let todo = self.must & !cov;
+        let branch_on: u64 = if todo != 0 {
+            if left == 0 {
+                return Some(false);
+            }
+            // The object with the fewest lines left: any cover has one of them.
+            let mut best: Option<(u32, u64)> = None;
+            let mut m = todo;
+            while m != 0 {
+                let o = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let c = candidates(o);
+                if best.is_none_or(|(bc, _)| c.count_ones() < bc) {
+                    best = Some((c.count_ones(), c));
+                }
+            }
+            best.expect("todo is not empty").1
+        } else {
+            match self.cycle(cov, chosen) {
+                None => return Some(true),
+                // A cycle through lines alone: no line added later changes it.
+                Some(0) => return Some(false),
+                Some(_) if left == 0 => return Some(false),
+                // A cover must take one of the cycle's direct objects into a line.
+                Some(directs) => {
+                    let mut ls = 0u64;
+                    let mut m = directs;
+                    while m != 0 {
+                        let o = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        ls |= candidates(o);
+                    }
+                    ls
+                }
+            }
+        };
+        let mut m = branch_on;
+        while m != 0 {
+            let l = m.trailing_zeros() as usize;
+            m &= m - 1;
+            chosen.push(l);
+            let r = self.search(left - 1, cov | self.lines[l].0, chosen);
+            chosen.pop();
+            match r {
+                Some(false) => {}
+                other => return other,
+            }
+        }
+        Some(false)
+    }
+
+    /// The directly placed objects on some cycle of the order constraints (`Some(0)` for a
+    /// cycle of lines alone), or `None` when the constraints can all be met.
+    fn cycle(&self, cov: u64, chosen: &[usize]) -> Option<u64> {
+        // One node per moment something reaches its target, named by an object: a direct
+        // object by itself, a line by its lowest member.
+        let mut rep = [0u8; 64];
+        let mut m = self.open;
+        while m != 0 {
+            let o = m.trailing_zeros() as usize;
+            m &= m - 1;
+            rep[o] = o as u8;
+        }
+        for &l in chosen {
+            let members = self.lines[l].0;
+            let r = members.trailing_zeros() as u8;
+            let mut m = members;
+            while m != 0 {
+                let o = m.trailing_zeros() as usize;
+                m &= m - 1;
+                rep[o] = r;
+            }
+        }
+        let to_nodes = |mut m: u64| {
+            let mut out = 0u64;
+            while m != 0 {
+                let o = m.trailing_zeros() as usize;
+                m &= m - 1;
+                out |= 1 << rep[o];
+            }
+            out
+        };
+        let mut out = [0u64; 64];
+        let mut nodes = 0u64;
+        let mut m = self.open & !cov;
+        while m != 0 {
+            let o = m.trailing_zeros() as usize;
+            m &= m - 1;
+            out[o] = to_nodes(self.block[o]);
+            nodes |= 1 << o;
+        }
+        for &l in chosen {
+            let (members, stuck) = self.lines[l];
+            let r = members.trailing_zeros() as usize;
+            out[r] = to_nodes(stuck & self.open);
+            nodes |= 1 << r;
+        }
+        // Peel off nodes without a predecessor or without a successor among those left: what
+        // stays lies on a cycle or between cycles, and every node of it has a successor in it.
+        let mut r = nodes;
+        loop {
+            let mut has_in = 0u64;
+            let mut m = r;
+            while m != 0 {
+                let u = m.trailing_zeros() as usize;
+                m &= m - 1;
+                has_in |= out[u] & r;
+            }
+            let mut keep = 0u64;
+            let mut m = r & has_in;
+            while m != 0 {
+                let u = m.trailing_zeros() as usize;
+                m &= m - 1;
+                if out[u] & r != 0 {
+                    keep |= 1 << u;
+                }
+            }
+            if keep == r {
+                break;
+            }
+            r = keep;
+        }
+        if r == 0 {
+            return None;
+        }
+        // Walk successors inside `r` until a node repeats: the walk from there is a cycle.
+        let mut path: Vec<usize> = Vec::new();
+        let mut seen = 0u64;
+        let mut v = r.trailing_zeros() as usize;
+        while seen >> v & 1 == 0 {
+            seen |= 1 << v;
+            path.push(v);
+            v = (out[v] & r).trailing_zeros() as usize;
+        }
+        let start = path.iter().position(|&u| u == v).expect("v was seen");
+        Some(
+            path[start..]
+                .iter()
+                .filter(|&&u| cov >> u & 1 == 0)
+                .fold(0u64, |m, &u| m | 1 << u),
+        )
+    }
 }
 
 /// Per object and grasp axis, what [`Search::slab_hits`] holds.
@@ -1702,6 +2082,9 @@ pub fn solve(
     });
     let mut labels: FxMap<Vec<u8>, Vec<Label>> = FxMap::default();
     let mut nodes = 0u64;
+    // Popped nodes whose exact bound showed no `L*`-action plan through them, and those with one.
+    let (mut dead_pops, mut live_pops) = (0u64, 0u64);
+    let calls_phase1 = s.calls.get();
     let mut status = SearchStatus::Complete;
     let mut goal: Option<NodeIndex> = None;
     while let Some(Open { f, node, .. }) = open.pop() {
@@ -1731,8 +2114,10 @@ pub fn solve(
                 graph[node].f = f2;
                 graph[node].exact = true;
                 if f2.len > l {
+                    dead_pops += 1;
                     continue; // cannot finish in the proven minimum number of actions
                 }
+                live_pops += 1;
                 if f2.cmp_lex(&f) == Ordering::Greater {
                     seq += 1;
                     open.push(Open { f: f2, seq, node });
@@ -1800,7 +2185,7 @@ pub fn solve(
                     continue;
                 }
             }
-            let k = key(&c, inst.gripper.min_offset);
+            let k = obj_key(&c.state, inst.gripper.min_offset);
             let lab = Label::of(&c);
             let set = labels.entry(k).or_default();
             if set.iter().any(|l| l.dominates(&lab)) {
@@ -1899,8 +2284,10 @@ pub fn solve(
     };
     if std::env::var_os("PUSHPACK_DEBUG").is_some() {
         eprintln!(
-            "astar: root bound {root_bound:?}, result {cost:?}, incumbent from dive {:?}, {nodes} nodes",
-            incumbent.as_ref().map(|i| i.0)
+            "astar: root bound {root_bound:?}, result {cost:?}, incumbent from dive {:?}, {nodes} nodes; \
+             main search: {live_pops} popped nodes on an L*-plan, {dead_pops} not, {} depth-first calls",
+            incumbent.as_ref().map(|i| i.0),
+            s.calls.get() - calls_phase1
         );
     }
     let (actions, margins): (Vec<Action>, Vec<Option<f64>>) = path.into_iter().unzip();
