@@ -346,17 +346,20 @@ impl<'a> Search<'a> {
         // Per push direction and object, the lateral range of the pusher of any line ending at
         // it: the pusher is centred on a weighted mean of the members' lateral centres, and the
         // members are objects in front of it (transitively).
-        let pusher_range = PushDir::ALL.map(|dir| {
+        let front_to_back = PushDir::ALL.map(|dir| {
+            let lo = |i: usize| placement.targets[i].rect.lo(dir.axis());
+            let mut order: Vec<usize> = (0..inst.n()).collect();
+            order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)));
+            order
+        });
+        let pusher_range: [Vec<[f64; 2]>; 2] = [0, 1].map(|k| {
+            let dir = PushDir::ALL[k];
             let lat = dir.axis().other();
             let centre = |i: usize| {
                 let r = placement.targets[i].rect;
                 (r.lo(lat) + r.hi(lat)) / 2.0
             };
-            let mut order: Vec<usize> = (0..inst.n()).collect();
-            order.sort_by(|&a, &b| {
-                let lo = |i: usize| placement.targets[i].rect.lo(dir.axis());
-                lo(a).total_cmp(&lo(b))
-            });
+            let order = &front_to_back[k];
             let mut range: Vec<[f64; 2]> = (0..inst.n()).map(|i| [centre(i), centre(i)]).collect();
             // Front to back: everything in front of `b` is done before it.
             for (k, &b) in order.iter().enumerate() {
@@ -462,12 +465,6 @@ impl<'a> Search<'a> {
                         .fold(0u64, |m, b| m | 1 << b)
                 })
                 .collect()
-        });
-        let front_to_back = PushDir::ALL.map(|dir| {
-            let lo = |i: usize| placement.targets[i].rect.lo(dir.axis());
-            let mut order: Vec<usize> = (0..inst.n()).collect();
-            order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)));
-            order
         });
         let t_lines = Instant::now();
         let push_lines = push_lines(inst, placement, &opts, &info, &steps);
@@ -783,14 +780,7 @@ impl<'a> Search<'a> {
             return self.line_cover_bound(pl, state, floor);
         }
         let inst = self.inst;
-        let done: Vec<usize> = (0..inst.n()).filter(|&i| state[i] == ObjState::Done).collect();
-        let needs_push: Vec<usize> = (0..inst.n())
-            .filter(|&i| match state[i] {
-                ObjState::Released { .. } => true,
-                ObjState::Table => self.info[i].never_direct || self.direct_blocked(i, &done),
-                ObjState::Done => false,
-            })
-            .collect();
+        let needs_push = self.must_push(state);
         if self.opts.no_multi_push {
             // One object per push: nothing is shared.
             return (needs_push.len(), needs_push);
@@ -910,10 +900,7 @@ impl<'a> Search<'a> {
         // Per object, the demands it serves (bit per demand).
         let mut demands_of = [0u64; 64];
         for (y, &dm) in demands.iter().enumerate() {
-            let mut m = dm;
-            while m != 0 {
-                let o = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for o in bits(dm) {
                 demands_of[o] |= 1 << y;
             }
         }
@@ -934,13 +921,7 @@ impl<'a> Search<'a> {
                 continue;
             };
             usable.push((l.members, stuck));
-            let mut here = 0u64;
-            let mut m = l.members;
-            while m != 0 {
-                let o = m.trailing_zeros() as usize;
-                m &= m - 1;
-                here |= demands_of[o];
-            }
+            let here = bits(l.members).fold(0u64, |h, o| h | demands_of[o]);
             served |= here;
             let mut m = here;
             while m != 0 {
@@ -958,21 +939,18 @@ impl<'a> Search<'a> {
             return (DEAD_END, needs_push);
         }
         let unshareable = max_independent(&adj);
+        if usable.len() > 64 {
+            return (unshareable.max(floor), needs_push); // beyond the line masks of the cover search
+        }
         let open = (0..state.len()).fold(0u64, |m, i| m | 1 << i) & !done;
         let mut block = [0u64; 64];
         for &(i, m) in &direct_need {
             block[i] = m & open;
         }
         let must = needs_push.iter().fold(0u64, |m, &i| m | 1 << i);
-        if usable.len() > 64 {
-            return (unshareable.max(floor), needs_push); // beyond the line masks of the cover search
-        }
         let mut lines_of = [0u64; 64];
         for (l, &(members, _)) in usable.iter().enumerate() {
-            let mut m = members;
-            while m != 0 {
-                let o = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for o in bits(members) {
                 lines_of[o] |= 1 << l;
             }
         }
@@ -1339,6 +1317,17 @@ fn max_independent(adj: &[u64]) -> usize {
     best
 }
 
+/// The indices of the set bits of `m`, lowest first.
+fn bits(mut m: u64) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (m != 0).then(|| {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            i
+        })
+    })
+}
+
 /// Depth-first steps [`Cover::min_lines`] may take on one state before it settles for the
 /// size it has not yet refuted (still a lower bound).
 const MAX_COVER_STEPS: usize = 48;
@@ -1397,13 +1386,7 @@ impl Cover<'_> {
             return None;
         }
         // Lines disjoint from those chosen.
-        let mut taken = 0u64;
-        let mut m = cov;
-        while m != 0 {
-            let o = m.trailing_zeros() as usize;
-            m &= m - 1;
-            taken |= self.lines_of[o];
-        }
+        let taken = bits(cov).fold(0u64, |t, o| t | self.lines_of[o]);
         let candidates = |o: usize| self.lines_of[o] & !taken;
         let todo = self.must & !cov;
         let branch_on: u64 = if todo != 0 {
@@ -1412,10 +1395,7 @@ impl Cover<'_> {
             }
             // The object with the fewest lines left: any cover has one of them.
             let mut best: Option<(u32, u64)> = None;
-            let mut m = todo;
-            while m != 0 {
-                let o = m.trailing_zeros() as usize;
-                m &= m - 1;
+            for o in bits(todo) {
                 let c = candidates(o);
                 if best.is_none_or(|(bc, _)| c.count_ones() < bc) {
                     best = Some((c.count_ones(), c));
@@ -1429,22 +1409,10 @@ impl Cover<'_> {
                 Some(0) => return Some(false),
                 Some(_) if left == 0 => return Some(false),
                 // A cover must take one of the cycle's direct objects into a line.
-                Some(directs) => {
-                    let mut ls = 0u64;
-                    let mut m = directs;
-                    while m != 0 {
-                        let o = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        ls |= candidates(o);
-                    }
-                    ls
-                }
+                Some(directs) => bits(directs).fold(0u64, |ls, o| ls | candidates(o)),
             }
         };
-        let mut m = branch_on;
-        while m != 0 {
-            let l = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for l in bits(branch_on) {
             chosen.push(l);
             let r = self.search(left - 1, cov | self.lines[l].0, chosen);
             chosen.pop();
@@ -1462,37 +1430,19 @@ impl Cover<'_> {
         // One node per moment something reaches its target, named by an object: a direct
         // object by itself, a line by its lowest member.
         let mut rep = [0u8; 64];
-        let mut m = self.open;
-        while m != 0 {
-            let o = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for o in bits(self.open) {
             rep[o] = o as u8;
         }
         for &l in chosen {
             let members = self.lines[l].0;
-            let r = members.trailing_zeros() as u8;
-            let mut m = members;
-            while m != 0 {
-                let o = m.trailing_zeros() as usize;
-                m &= m - 1;
-                rep[o] = r;
+            for o in bits(members) {
+                rep[o] = members.trailing_zeros() as u8;
             }
         }
-        let to_nodes = |mut m: u64| {
-            let mut out = 0u64;
-            while m != 0 {
-                let o = m.trailing_zeros() as usize;
-                m &= m - 1;
-                out |= 1 << rep[o];
-            }
-            out
-        };
+        let to_nodes = |m: u64| bits(m).fold(0u64, |out, o| out | 1 << rep[o]);
         let mut out = [0u64; 64];
         let mut nodes = 0u64;
-        let mut m = self.open & !cov;
-        while m != 0 {
-            let o = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for o in bits(self.open & !cov) {
             out[o] = to_nodes(self.block[o]);
             nodes |= 1 << o;
         }
@@ -1506,22 +1456,10 @@ impl Cover<'_> {
         // stays lies on a cycle or between cycles, and every node of it has a successor in it.
         let mut r = nodes;
         loop {
-            let mut has_in = 0u64;
-            let mut m = r;
-            while m != 0 {
-                let u = m.trailing_zeros() as usize;
-                m &= m - 1;
-                has_in |= out[u] & r;
-            }
-            let mut keep = 0u64;
-            let mut m = r & has_in;
-            while m != 0 {
-                let u = m.trailing_zeros() as usize;
-                m &= m - 1;
-                if out[u] & r != 0 {
-                    keep |= 1 << u;
-                }
-            }
+            let has_in = bits(r).fold(0u64, |h, u| h | out[u] & r);
+            let keep = bits(r & has_in)
+                .filter(|&u| out[u] & r != 0)
+                .fold(0u64, |k, u| k | 1 << u);
             if keep == r {
                 break;
             }
