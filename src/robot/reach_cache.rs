@@ -128,6 +128,13 @@ impl<'a> ReachCache<'a> {
         self.with(a, |r| r.is_some_and(|r| r.free_when(|j| state[j] == ObjState::Table)))
     }
 
+    /// Per hand variant found, the objects that block it while still on the table (an empty
+    /// set when some variant is free; the search stops at the first free one); `None` when the
+    /// action is unreachable whatever is on the table.
+    pub fn table_blockers(&self, a: &Action) -> Option<Vec<Vec<usize>>> {
+        self.with(a, |r| r.map(|r| r.table_blockers.clone()))
+    }
+
     /// [`Self::ok_when`] in the state of `layout`.
     pub fn ok_in(&self, a: &Action, layout: &Layout) -> bool {
         self.ok_when(a, &layout.state)

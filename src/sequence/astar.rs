@@ -201,6 +201,19 @@ struct Search<'a> {
     /// opening rule the axis out for good, else the objects whose targets stand in a finger
     /// slab (empty unless `push_lines` is listed).
     slab_hits: Vec<[Option<u64>; 2]>,
+    /// Per object, push direction (as in [`PushDir::ALL`]) and offset step `m` (index `m − 1`):
+    /// what can stop an indirect release there (empty unless `push_lines` is listed and the
+    /// steps fit the bit masks).
+    release_hits: Vec<[Vec<PlaceHits>; 2]>,
+    /// Per object, what can stop its direct placement (empty like `release_hits`).
+    direct_hits: Vec<PlaceHits>,
+    /// Per object, once asked: per place action the empty container allows and the robot
+    /// reaches, the sets of other objects that, still on the table, block its pick (one per
+    /// hand variant found, minimal sets only; `[0]` when a variant is free).
+    pick_blockers: RefCell<Vec<Option<Rc<Vec<(PlaceKey, Vec<u64>)>>>>>,
+    /// Per line of `push_lines`: the offset steps of its back member (bit `m`) asked so far,
+    /// and those at which the robot reaches its push with some arm.
+    line_reach: RefCell<Vec<(u64, u64)>>,
     /// Largest offset step per object and push direction (indexed like [`PushDir::ALL`]).
     steps: Vec<[usize; 2]>,
     home: [Vector3<f64>; 2],
@@ -217,6 +230,14 @@ struct Search<'a> {
     len_memo: RefCell<FxMap<Vec<u8>, (usize, usize)>>,
     /// The proven minimum number of actions, once known.
     lstar: Cell<Option<usize>>,
+    /// Phase 2's box: while set, every release must lie within `[0, x] × [0, y]` of C.
+    area_box: Cell<Option<[f64; 2]>>,
+    /// Successors allowed by `area_box` (cleared when it changes).
+    box_succ: RefCell<FxMap<Vec<u8>, Rc<Vec<(Action, Option<f64>)>>>>,
+    /// Phase 1's memo, kept aside while a box is set (the facts differ under a box).
+    base_memo: RefCell<Option<FxMap<Vec<u8>, (usize, usize)>>>,
+    /// Proven lower bound on the swept area of every plan of `lstar` actions (0 until phase 2).
+    area_floor: Cell<f64>,
     /// Time limit watched by phase 1, and whether it (or the slice deadline) struck.
     stop: Option<&'a dyn Terminator>,
     stopped: Cell<bool>,
@@ -480,6 +501,32 @@ impl<'a> Search<'a> {
         } else {
             Vec::new()
         };
+        // Offset steps index the bit masks of `PlaceHits`.
+        let (release_hits, direct_hits) = if push_lines.is_some() && steps.iter().flatten().all(|&m| m < 64) {
+            let d = g.min_offset;
+            let indirect = (0..inst.n())
+                .map(|i| {
+                    [0, 1].map(|k| {
+                        (1..=steps[i][k])
+                            .map(|m| {
+                                let mode = PlaceMode::Indirect {
+                                    push_dir: PushDir::ALL[k],
+                                    offset: d * m as f64,
+                                };
+                                place_hits(inst, placement, &steps, i, mode)
+                            })
+                            .collect()
+                    })
+                })
+                .collect();
+            let direct = (0..inst.n())
+                .map(|i| place_hits(inst, placement, &steps, i, PlaceMode::Direct))
+                .collect();
+            (indirect, direct)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let n_lines = push_lines.as_ref().map_or(0, |l| l.len());
         Search {
             inst,
             placement,
@@ -489,6 +536,10 @@ impl<'a> Search<'a> {
             front_to_back,
             push_lines,
             slab_hits,
+            release_hits,
+            direct_hits,
+            pick_blockers: RefCell::new(vec![None; inst.n()]),
+            line_reach: RefCell::new(vec![(0, 0); n_lines]),
             steps,
             home: [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)],
             home_c: [Arm::Left, Arm::Right].map(|a| {
@@ -503,6 +554,10 @@ impl<'a> Search<'a> {
             // first rehashes do not matter.
             len_memo: RefCell::new(FxMap::with_capacity_and_hasher(1 << 16, Default::default())),
             lstar: Cell::new(None),
+            area_box: Cell::new(None),
+            box_succ: RefCell::new(FxMap::default()),
+            base_memo: RefCell::new(None),
+            area_floor: Cell::new(0.0),
             stop: None,
             stopped: Cell::new(false),
             deadline: Cell::new(None),
@@ -665,9 +720,173 @@ impl<'a> Search<'a> {
         }
         // Stored: a sibling order is asked for again on every visit of the parent.
         let table = state.iter().filter(|s| **s == ObjState::Table).count();
-        let lo = (table + self.push_lower_bound(state, floor.saturating_sub(table)).0).max(floor);
+        let lo = if self.picks_deadlocked(state) {
+            DEAD_END
+        } else {
+            (table + self.push_lower_bound(state, floor.saturating_sub(table)).0).max(floor)
+        };
         self.len_memo.borrow_mut().insert(k, (lo, usize::MAX));
         lo
+    }
+
+    /// The table objects of `state` cannot all be picked: each of some of them is blocked, in
+    /// every pick of an action not yet ruled out for good (by objects done, or released ones
+    /// in the way both where they are and at their targets), by another of them still on the
+    /// table. An object leaves the table only by its own pick, so picking whatever is free
+    /// first (which only frees more) finds an order whenever one exists.
+    fn picks_deadlocked(&self, state: &[ObjState]) -> bool {
+        if self.release_hits.is_empty() {
+            return false; // beyond the bit masks
+        }
+        let mut table = (0..state.len())
+            .filter(|&i| state[i] == ObjState::Table)
+            .fold(0u64, |m, i| m | 1 << i);
+        if table.count_ones() < 2 {
+            return false; // a lone object's reachability is the successors' business
+        }
+        let done = (0..state.len())
+            .filter(|&i| state[i] == ObjState::Done)
+            .fold(0u64, |m, i| m | 1 << i);
+        let released = self.released(state);
+        // Per table object, the blocker sets of its picks that are still possible.
+        let sets: Vec<(usize, Vec<u64>)> = bits(table)
+            .map(|i| {
+                let pb = self.pick_blockers(i);
+                let live = pb
+                    .iter()
+                    .filter(|(key, _)| {
+                        let hits = match *key {
+                            PlaceKey::Direct(_) => &self.direct_hits[i],
+                            PlaceKey::Indirect(k, m, _) => {
+                                if !self.in_box(i, PushDir::ALL[k], self.inst.gripper.min_offset * m as f64) {
+                                    return false;
+                                }
+                                &self.release_hits[i][k][m - 1]
+                            }
+                        };
+                        hits.axis_open(key.axis(), done, &[], &released)
+                    })
+                    .flat_map(|(_, b)| b.iter().copied())
+                    .collect();
+                (i, live)
+            })
+            .collect();
+        loop {
+            let free = sets
+                .iter()
+                .filter(|(i, b)| table >> i & 1 == 1 && b.iter().any(|&b| b & table & !(1 << i) == 0))
+                .fold(0u64, |m, (i, _)| m | 1 << i);
+            if free == 0 {
+                return true;
+            }
+            table &= !free;
+            if table == 0 {
+                return false;
+            }
+        }
+    }
+
+    /// Whether the robot reaches the push of line `li` (`l`) with its back member at offset
+    /// step `m`, with some arm (inverse kinematics through the reach cache on first use, as
+    /// the successors ask it; memoised per line).
+    fn line_reach(&self, li: usize, l: &PushLine, m: usize) -> bool {
+        let (asked, ok) = self.line_reach.borrow()[li];
+        if asked >> m & 1 == 1 {
+            return ok >> m & 1 == 1;
+        }
+        let dir = PushDir::ALL[l.dir];
+        let back = *l.order.last().expect("non-empty");
+        let pusher_at = push::centred_pusher(self.inst, self.placement, &l.order, dir);
+        let d = self.inst.gripper.min_offset;
+        let r = push_arms(self.inst, back).into_iter().any(|arm| {
+            self.reach.ok(&Action::Push {
+                objects: l.order.clone(),
+                push_dir: dir,
+                distance: d * m as f64,
+                pusher_at,
+                arm,
+            })
+        });
+        let mut lr = self.line_reach.borrow_mut();
+        lr[li].0 |= 1 << m;
+        lr[li].1 |= u64::from(r) << m;
+        r
+    }
+
+    /// The released objects of `state`.
+    fn released(&self, state: &[ObjState]) -> Vec<Rel> {
+        let d = self.inst.gripper.min_offset;
+        state
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| match s {
+                ObjState::Released { push_dir, offset, .. } => Some((
+                    i,
+                    PushDir::ALL
+                        .iter()
+                        .position(|x| x == push_dir)
+                        .expect("a push direction"),
+                    (offset / d).round() as usize,
+                )),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// [`Search::pick_blockers`] of object `i`, computed on first use (inverse kinematics
+    /// through the reach cache).
+    fn pick_blockers(&self, i: usize) -> Rc<Vec<(PlaceKey, Vec<u64>)>> {
+        if let Some(b) = &self.pick_blockers.borrow()[i] {
+            return b.clone();
+        }
+        let inst = self.inst;
+        let empty = Layout::new(inst, self.placement);
+        let d = inst.gripper.min_offset;
+        let mut keys = Vec::new();
+        for ax in 0..2 {
+            if !self.opts.no_direct {
+                keys.push(PlaceKey::Direct(ax));
+            }
+            for k in 0..2 {
+                for m in 1..=self.steps[i][k] {
+                    keys.push(PlaceKey::Indirect(k, m, ax));
+                }
+            }
+        }
+        let mut out = Vec::new();
+        for key in keys {
+            let mode = match key {
+                PlaceKey::Direct(_) => PlaceMode::Direct,
+                PlaceKey::Indirect(k, m, _) => PlaceMode::Indirect {
+                    push_dir: PushDir::ALL[k],
+                    offset: d * m as f64,
+                },
+            };
+            let a = Action::Place {
+                object: i,
+                mode,
+                grasp_axis: [Axis2::X, Axis2::Y][key.axis()],
+                arm: pick_arm(inst, i),
+            };
+            if empty.check(&a).is_err() {
+                continue;
+            }
+            let Some(variants) = self.reach.table_blockers(&a) else {
+                continue;
+            };
+            let mut sets: Vec<u64> = Vec::new();
+            for b in variants {
+                let m = b.iter().fold(0u64, |m, &j| m | 1 << j);
+                if !sets.iter().any(|&s| s & !m == 0) {
+                    sets.retain(|&s| m & !s != 0);
+                    sets.push(m);
+                }
+            }
+            out.push((key, sets));
+        }
+        let out = Rc::new(out);
+        self.pick_blockers.borrow_mut()[i] = Some(out.clone());
+        out
     }
 
     /// [`Search::fits`] from `state`, abandoned after `calls` more calls. Facts the memo gained
@@ -866,15 +1085,29 @@ impl<'a> Search<'a> {
         }
         // Per table object, the objects in every finger slab still usable (`None`: no usable
         // slab left, so the object needs a push).
+        let released = self.released(state);
+        // Per table object, the objects in every finger slab still usable (`None`: no usable
+        // slab left, so the object needs a push). A slab is lost for good to an object done,
+        // or to one released that stands in it both where it is and at its target.
         let blocking = |i: usize| -> Option<u64> {
             if self.info[i].never_direct {
                 return None;
             }
             self.slab_hits[i]
                 .iter()
-                .flatten()
-                .filter(|&&m| m & done == 0)
-                .fold(None, |acc: Option<u64>, &m| Some(acc.map_or(m, |a| a & m)))
+                .enumerate()
+                .filter_map(|(ax, m)| m.map(|m| (ax, m)))
+                .filter(|&(ax, m)| {
+                    m & done == 0
+                        && self.direct_hits.get(i).is_none_or(|h| {
+                            h.axes[ax].as_ref().is_none_or(|(_, rel)| {
+                                released
+                                    .iter()
+                                    .all(|&(j, k, mj)| m >> j & 1 == 0 || rel[j][k] >> mj & 1 == 0)
+                            })
+                        })
+                })
+                .fold(None, |acc: Option<u64>, (_, m)| Some(acc.map_or(m, |a| a & m)))
         };
         let mut demands: Vec<u64> = Vec::new();
         let mut needs_push = Vec::new();
@@ -908,7 +1141,7 @@ impl<'a> Search<'a> {
         let mut adj = vec![0u64; demands.len()];
         // Usable lines, each with the objects that block every usable pattern of it once done.
         let mut usable: Vec<(u64, u64)> = Vec::new();
-        for l in lines {
+        for (li, l) in lines.iter().enumerate() {
             if l.members & !allow[l.dir] != 0 {
                 continue;
             }
@@ -920,6 +1153,9 @@ impl<'a> Search<'a> {
             else {
                 continue;
             };
+            if !self.line_releasable(li, l, state, done, &released) {
+                continue;
+            }
             usable.push((l.members, stuck));
             let here = bits(l.members).fold(0u64, |h, o| h | demands_of[o]);
             served |= here;
@@ -965,6 +1201,54 @@ impl<'a> Search<'a> {
         (cover.min_lines(unshareable.max(floor)), needs_push)
     }
 
+    /// Whether the table members of line `l` can still be released in front of, between and
+    /// behind its released members for one push: at offsets that do not decrease toward the
+    /// back (the push check's rule), each where some grasp axis is blocked neither by an
+    /// object done now (done for good), nor by a released member of the line (which stays
+    /// where it is until this very push moves it), nor by another released object both where
+    /// it is and at its target (it is at one of the two until the end). A necessary condition
+    /// for the line's push in any plan from `state`.
+    fn line_releasable(&self, li: usize, l: &PushLine, state: &[ObjState], done: u64, released: &[Rel]) -> bool {
+        if self.release_hits.is_empty() {
+            return true;
+        }
+        let d = self.inst.gripper.min_offset;
+        let (fixed, either): (Vec<Rel>, Vec<Rel>) = released.iter().partition(|r| l.members >> r.0 & 1 == 1);
+        let step = |j: usize| fixed.iter().find(|r| r.0 == j).map(|r| r.2);
+        // Greedy from the front, each table member at its smallest workable offset: the only
+        // constraints between members are the order of the offsets, so any workable assignment
+        // lies pointwise at or above this one.
+        let mut lo = 1;
+        for (t, &i) in l.order.iter().enumerate() {
+            match state[i] {
+                ObjState::Released { .. } => {
+                    let m = step(i).expect("released");
+                    if m < lo || (t + 1 == l.order.len() && !self.line_reach(li, l, m)) {
+                        return false;
+                    }
+                    lo = m;
+                }
+                ObjState::Table => {
+                    let cap = self.steps[i][l.dir];
+                    let hi = l.order[t + 1..].iter().find_map(|&j| step(j)).unwrap_or(cap).min(cap);
+                    let hits = &self.release_hits[i][l.dir];
+                    // The back member's offset is the push distance: the robot must reach it.
+                    let back = t + 1 == l.order.len();
+                    match (lo..=hi).find(|&m| {
+                        self.in_box(i, PushDir::ALL[l.dir], d * m as f64)
+                            && hits[m - 1].open_with(done, &fixed, &either)
+                            && (!back || self.line_reach(li, l, m))
+                    }) {
+                        Some(m) => lo = m,
+                        None => return false,
+                    }
+                }
+                ObjState::Done => return false,
+            }
+        }
+        true
+    }
+
     /// With `exact`, and once the minimum number of actions is proven, the remaining pushes come
     /// from phase 1's memoised depth-first search; without, from the cheap push bound alone.
     fn h(&self, n: &Node, exact: bool) -> Cost {
@@ -988,7 +1272,8 @@ impl<'a> Search<'a> {
         // Area: every object on the table that needs a push must be released somewhere; each
         // one alone forces at least its cheapest direction (offsets beyond d only grow it).
         let grown = |e: &[f64; 2]| n.ext[0].max(e[0]) * n.ext[1].max(e[1]);
-        let mut area = n.ext[0] * n.ext[1];
+        // Phase 2 proves that no plan of `L*` actions sweeps less than `area_floor`.
+        let mut area = (n.ext[0] * n.ext[1]).max(self.area_floor.get());
         for &i in &needs_push {
             if n.state[i] == ObjState::Table {
                 let forced = self.info[i].release_ext.iter().map(grown).fold(f64::INFINITY, f64::min);
@@ -1071,12 +1356,64 @@ impl<'a> Search<'a> {
     /// states only).
     fn successors(&self, state: &[ObjState]) -> Rc<Vec<(Action, Option<f64>)>> {
         let k = obj_key(state, self.inst.gripper.min_offset);
-        if let Some(v) = self.succ_cache.borrow().get(&k) {
-            return v.clone();
+        let boxed = self.area_box.get().is_some();
+        if boxed {
+            if let Some(v) = self.box_succ.borrow().get(&k) {
+                return v.clone();
+            }
         }
-        let v = Rc::new(self.timed(|p| (&mut p.succ_s, &mut p.succ_n), || self.successors_uncached(state)));
-        self.succ_cache.borrow_mut().insert(k, v.clone());
-        v
+        let cached = self.succ_cache.borrow().get(&k).cloned();
+        let v = cached.unwrap_or_else(|| {
+            let v = Rc::new(self.timed(|p| (&mut p.succ_s, &mut p.succ_n), || self.successors_uncached(state)));
+            self.succ_cache.borrow_mut().insert(k.clone(), v.clone());
+            v
+        });
+        if !boxed {
+            return v;
+        }
+        let kept: Rc<Vec<(Action, Option<f64>)>> = Rc::new(
+            v.iter()
+                .filter(|(a, _)| match a {
+                    Action::Place {
+                        object,
+                        mode: PlaceMode::Indirect { push_dir, offset },
+                        ..
+                    } => self.in_box(*object, *push_dir, *offset),
+                    _ => true,
+                })
+                .cloned()
+                .collect(),
+        );
+        self.box_succ.borrow_mut().insert(k, kept.clone());
+        kept
+    }
+
+    /// Whether the release of object `i` for a push along `dir` at `offset` lies within the
+    /// current `area_box` (always, without one). Direct placements lie within the placement's
+    /// extent, the smallest box there is.
+    fn in_box(&self, i: usize, dir: PushDir, offset: f64) -> bool {
+        self.area_box.get().is_none_or(|[x, y]| {
+            let r = self.placement.targets[i].rect.moved(dir, -offset);
+            r.x1 <= x + 1e-12 && r.y1 <= y + 1e-12
+        })
+    }
+
+    /// Restrict every release to `b` (or lift the restriction), with a memo of its own: the
+    /// facts of one box do not hold in another, and phase 1's come back when it is lifted.
+    fn set_box(&self, b: Option<[f64; 2]>) {
+        self.box_succ.borrow_mut().clear();
+        let mut memo = self.len_memo.borrow_mut();
+        let mut base = self.base_memo.borrow_mut();
+        match b {
+            Some(_) if base.is_none() => *base = Some(std::mem::take(&mut *memo)),
+            Some(_) => memo.clear(),
+            None => {
+                if let Some(m) = base.take() {
+                    *memo = m;
+                }
+            }
+        }
+        self.area_box.set(b);
     }
 
     /// Feasible actions in a state, with the push margin of each.
@@ -1218,6 +1555,111 @@ impl<'a> Search<'a> {
                 r.x0 + r.y0
             }
         }
+    }
+
+    /// Phase 2: the least swept area of any plan of `l` (= `L*`) actions, as the smallest box
+    /// `[0, x] × [0, y]` that holds every release of one. The swept extents of a plan are the
+    /// placement's extent grown by its releases, so `x` is the placement's or a release's `x1`
+    /// (likewise `y`), and the plan's area is `x·y` of its own box. Boxes go by area, each
+    /// asked as phase 1's question with the releases outside it left out; a refuted box
+    /// refutes every box inside it. The first box that fits has the least area: it becomes
+    /// [`Search::area_floor`], and the incumbent becomes a plan in it. When it is the only box
+    /// of that area, it stays set for the main search (every plan left has that area, so the
+    /// search orders by travel alone and its exact bound prunes what cannot stay inside);
+    /// otherwise phase 1's state comes back. Stopped by the time limit, the floor is the area
+    /// of the box being asked. Returns the number of boxes of the least area that fit.
+    fn min_area_box(&self, root: &Node, l: usize, incumbent: &mut Option<Incumbent>, trace: bool) -> usize {
+        let d = self.inst.gripper.min_offset;
+        let floor = self.inst.container.floor();
+        let (mx, my) = self.placement.extent();
+        let (mut xs, mut ys) = (vec![mx], vec![my]);
+        for i in 0..self.inst.n() {
+            for (k, dir) in PushDir::ALL.into_iter().enumerate() {
+                for m in 1..=self.steps[i][k] {
+                    let r = self.placement.targets[i].rect.moved(dir, -(d * m as f64));
+                    if r.inside(&floor) {
+                        xs.push(r.x1);
+                        ys.push(r.y1);
+                    }
+                }
+            }
+        }
+        for v in [&mut xs, &mut ys] {
+            v.sort_by(f64::total_cmp);
+            v.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
+        }
+        let lo = self.h(root, false).area;
+        let hi = incumbent
+            .as_ref()
+            .filter(|(c, _)| c.len == l)
+            .map_or(f64::INFINITY, |(c, _)| c.area);
+        let mut pairs: Vec<[f64; 2]> = xs
+            .iter()
+            .filter(|&&x| x >= mx - 1e-12)
+            .flat_map(|&x| ys.iter().filter(|&&y| y >= my - 1e-12).map(move |&y| [x, y]))
+            .filter(|[x, y]| x * y >= lo - 1e-12 && x * y <= hi + 1e-12)
+            .collect();
+        pairs.sort_by(|a, b| (a[0] * a[1]).total_cmp(&(b[0] * b[1])));
+        let mut refuted: Vec<[f64; 2]> = Vec::new();
+        let inside = |p: &[f64; 2], q: &[f64; 2]| p[0] <= q[0] + 1e-12 && p[1] <= q[1] + 1e-12;
+        let mut best: Option<f64> = None;
+        let mut fitting: Vec<[f64; 2]> = Vec::new();
+        for p in pairs {
+            let area = p[0] * p[1];
+            if best.is_some_and(|b| area > b + 1e-12) {
+                break;
+            }
+            if refuted.iter().any(|r| inside(&p, r)) {
+                continue;
+            }
+            self.set_box(Some(p));
+            match self.fits_within(&root.state, l, u64::MAX / 2) {
+                Fit::Yes(_) => {
+                    if best.is_none() {
+                        best = Some(area);
+                        self.area_floor.set(area);
+                        if incumbent
+                            .as_ref()
+                            .is_none_or(|(c, _)| c.len > l || c.area > area + 1e-12)
+                        {
+                            if let Some(plan) = self.plan_from_memo(root, l) {
+                                *incumbent = Some(plan);
+                            }
+                        }
+                    }
+                    fitting.push(p);
+                }
+                Fit::No => refuted.push(p),
+                Fit::Stopped => {
+                    // Every box of less area is refuted.
+                    self.area_floor
+                        .set(self.area_floor.get().max(area.min(best.unwrap_or(area))));
+                    self.set_box(None);
+                    return 0;
+                }
+            }
+            if trace {
+                eprintln!(
+                    "phase 2: box {:.4} x {:.4} = {:.2} cm²: {}",
+                    p[0],
+                    p[1],
+                    area * 1e4,
+                    if fitting.last() == Some(&p) { "fits" } else { "refuted" }
+                );
+            }
+        }
+        if best.is_none() {
+            // Every box up to the incumbent's refuted but its own: only by rounding.
+            self.set_box(None);
+            return 0;
+        }
+        if fitting.len() == 1 {
+            // Phase 2's facts about this box are the main search's.
+            self.set_box(Some(fitting[0]));
+        } else {
+            self.set_box(None);
+        }
+        fitting.len()
     }
 
     /// Greedy dive with bounded backtracking: the first incumbent.
@@ -1516,6 +1958,102 @@ fn slab_hits(inst: &Instance, placement: &Placement) -> Vec<[Option<u64>; 2]> {
         .collect()
 }
 
+/// What stops one place action (an object, a place mode), per grasp axis (X, Y): `None` when
+/// the axis cannot work with nothing else in the container, else the objects whose targets
+/// block it once done, and per other object `j` and push direction `k`, the offset steps (bit
+/// `m`) at which `j`, released there, blocks it.
+///
+/// A place check fails exactly when the static part fails or some single object's footprint or
+/// box stands in the way (overlap, finger slabs), so checks against one object at a time decide
+/// it for any set of them.
+struct PlaceHits {
+    axes: [Option<(u64, Vec<[u64; 2]>)>; 2],
+}
+
+/// A released object: index, push direction (as in [`PushDir::ALL`]), offset step.
+type Rel = (usize, usize, usize);
+
+/// One place action of a known object: direct, or indirect with push direction (as in
+/// [`PushDir::ALL`]) and offset step; and the grasp axis (0 for X, 1 for Y).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PlaceKey {
+    Direct(usize),
+    Indirect(usize, usize, usize),
+}
+
+impl PlaceKey {
+    fn axis(self) -> usize {
+        match self {
+            PlaceKey::Direct(ax) | PlaceKey::Indirect(_, _, ax) => ax,
+        }
+    }
+}
+
+impl PlaceHits {
+    /// Whether some grasp axis can still work, given that the objects in `done` stay at their
+    /// targets, those in `fixed` stay where they are released, and those in `either` are
+    /// released now and will be at their targets after their push: one of the two positions
+    /// must leave the axis free.
+    fn open_with(&self, done: u64, fixed: &[Rel], either: &[Rel]) -> bool {
+        (0..2).any(|ax| self.axis_open(ax, done, fixed, either))
+    }
+
+    /// [`PlaceHits::open_with`] for grasp axis `ax` (0 for X, 1 for Y) alone.
+    fn axis_open(&self, ax: usize, done: u64, fixed: &[Rel], either: &[Rel]) -> bool {
+        self.axes[ax].as_ref().is_some_and(|(d, rel)| {
+            d & done == 0
+                && fixed.iter().all(|&(j, k, m)| rel[j][k] >> m & 1 == 0)
+                && either
+                    .iter()
+                    .all(|&(j, k, m)| d >> j & 1 == 0 || rel[j][k] >> m & 1 == 0)
+        })
+    }
+}
+
+/// [`PlaceHits`] of placing object `i` in `mode` (offset steps of other objects up to `steps`).
+fn place_hits(inst: &Instance, placement: &Placement, steps: &[[usize; 2]], i: usize, mode: PlaceMode) -> PlaceHits {
+    let n = inst.n();
+    let d = inst.gripper.min_offset;
+    let floor = inst.container.floor();
+    let axes = [Axis2::X, Axis2::Y].map(|ax| {
+        let a = Action::Place {
+            object: i,
+            mode,
+            grasp_axis: ax,
+            arm: pick_arm(inst, i),
+        };
+        let mut layout = Layout::new(inst, placement);
+        layout.check(&a).ok()?;
+        let mut done = 0u64;
+        let mut rel = vec![[0u64; 2]; n];
+        for j in (0..n).filter(|&j| j != i) {
+            layout.state[j] = ObjState::Done;
+            if layout.check(&a).is_err() {
+                done |= 1 << j;
+            }
+            for (k, dir) in PushDir::ALL.into_iter().enumerate() {
+                for mj in 1..=steps[j][k] {
+                    let r = placement.targets[j].rect.moved(dir, -(d * mj as f64));
+                    if !r.inside(&floor) {
+                        continue; // never released there
+                    }
+                    layout.state[j] = ObjState::Released {
+                        rect: r,
+                        push_dir: dir,
+                        offset: d * mj as f64,
+                    };
+                    if layout.check(&a).is_err() {
+                        rel[j][k] |= 1 << mj;
+                    }
+                }
+            }
+            layout.state[j] = ObjState::Table;
+        }
+        Some((done, rel))
+    });
+    PlaceHits { axes }
+}
+
 /// Remaining-pushes bound of a state from which no plan exists: far above any budget, and small
 /// enough that sums of costs never overflow.
 const DEAD_END: usize = 1 << 20;
@@ -1530,6 +2068,8 @@ struct PushLine {
     dir: usize,
     /// Members (bit per object).
     members: u64,
+    /// Members front to back.
+    order: Vec<usize>,
     /// Per gap pattern that passes the push check with nothing else in the container: the
     /// objects whose targets, once done, make that pattern fail (empty when no pattern passes
     /// the line is left out).
@@ -1648,6 +2188,7 @@ fn push_lines(
             }
             out.push(PushLine {
                 dir: k,
+                order: line,
                 members,
                 blockers: kept,
             });
@@ -2005,8 +2546,19 @@ pub fn solve(
         slice *= 2;
     }
     let t_phase1 = start.elapsed().as_secs_f64() - t_dive;
+    let boxes = match s.lstar.get() {
+        Some(l) if s.push_lines.is_some() && !stop.should_stop() => s.min_area_box(&root, l, &mut incumbent, trace),
+        _ => 0,
+    };
+    let t_phase2 = start.elapsed().as_secs_f64() - t_dive - t_phase1;
+    s.stopped.set(false);
     root.f = s.f_of(&root, true);
     root.exact = true;
+    if s.stopped.replace(false) {
+        // The time limit struck inside the exact bound: it is not one, the cheap one is.
+        root.f = s.f_of(&root, false);
+        root.exact = false;
+    }
     let root_bound = root.f;
 
     let mut graph: DiGraph<Node, (Action, Option<f64>)> = DiGraph::new();
@@ -2025,7 +2577,13 @@ pub fn solve(
     let calls_phase1 = s.calls.get();
     let mut status = SearchStatus::Complete;
     let mut goal: Option<NodeIndex> = None;
-    while let Some(Open { f, node, .. }) = open.pop() {
+    if stop.should_stop() {
+        status = SearchStatus::TimeLimit; // the phases used the time; the root stays open
+    }
+    while status == SearchStatus::Complete {
+        let Some(Open { f, node, .. }) = open.pop() else {
+            break;
+        };
         if let Some((c, _)) = &incumbent {
             if f.cmp_lex(c) != Ordering::Less {
                 // Nothing open can beat the incumbent: it is optimal.
@@ -2165,13 +2723,15 @@ pub fn solve(
         let p = p.borrow();
         eprintln!(
             "astar profile: total {:.3}s = dive {t_dive:.3}s ({dive_used} nodes, plan: {dive_found}) + phase-1 {t_phase1:.3}s \
-             (L* {:?}, proven ≥ {len_lo}, {improved} better plans, {} calls, last slice {slice}) + search {:.3}s; \
+             (L* {:?}, proven ≥ {len_lo}, {improved} better plans, {} calls, last slice {slice}) + phase-2 {t_phase2:.3}s \
+             ({boxes} least boxes, area ≥ {:.2} cm²) + search {:.3}s; \
              successors {:.3}s/{} (check {:.3}s/{}, reach {:.3}s/{} with {} IK), h cheap {:.3}s/{}, exact {:.3}s/{}, child {:.3}s/{}, \
              memo {} states, succ cache {}",
             start.elapsed().as_secs_f64(),
             s.lstar.get(),
             s.calls.get(),
-            start.elapsed().as_secs_f64() - t_dive - t_phase1,
+            s.area_floor.get() * 1e4,
+            start.elapsed().as_secs_f64() - t_dive - t_phase1 - t_phase2,
             p.succ_s,
             p.succ_n,
             p.check_s,
