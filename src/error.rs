@@ -33,7 +33,10 @@ pub enum Error {
     /// A search hit its node or time limit before it had found any plan. Nothing is proven:
     /// a larger limit may find one. (A search stopped *with* a plan is not an error; its
     /// result carries the status.)
-    #[error("{stage} stopped by its {limit} after {nodes} nodes ({elapsed_s:.1} s) before any plan was found")]
+    #[error(
+        "{stage} stopped by its {limit} after {nodes} nodes ({elapsed_s:.1} s) before any plan was found{}",
+        min_actions_note(.min_actions)
+    )]
     Stopped {
         /// The stage that stopped (`"sequence (astar)"`, `"sequence (paper)"`).
         stage: String,
@@ -43,6 +46,8 @@ pub enum Error {
         nodes: u64,
         /// Seconds spent in the stage.
         elapsed_s: f64,
+        /// The fewest actions any plan needs, as proven before the stop (A* only).
+        min_actions: Option<usize>,
     },
     /// The instance is valid, but no plan satisfying every constraint exists within the search.
     #[error("no feasible plan: {reason}")]
@@ -66,6 +71,13 @@ impl Error {
     pub fn is_input(&self) -> bool {
         matches!(self, Error::Input { .. } | Error::Io { .. })
     }
+}
+
+/// The proven bound of an [`Error::Stopped`], as a clause of its message.
+fn min_actions_note(min_actions: &Option<usize>) -> String {
+    min_actions.map_or(String::new(), |n| {
+        format!("; proven: every plan needs at least {n} actions")
+    })
 }
 
 /// Result alias used across the crate.

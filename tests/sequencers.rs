@@ -113,3 +113,50 @@ fn paper_sequencer_stops_in_algorithm_1_and_says_so() {
         Ok(r) => panic!("a terminator that always fires still gave a plan ({:?})", r.status),
     }
 }
+
+/// A* stopped before any plan still reports what it proved: the fewest actions any plan needs,
+/// in the error and its message. Checked against the optimum of a full run on the paper's
+/// eight-object instance (the stopped bound may be weaker, never above it), and against the
+/// count no bound may fall below (one placement per object).
+#[test]
+fn astar_stopped_without_a_plan_reports_its_proven_bound() {
+    use pushpack::control::TimeLimit;
+    use pushpack::sequence::astar::{self, AstarSettings};
+    use pushpack::sequence::SequenceOptions;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("instances/paper/exp2_8objects.toml");
+    let inst = Instance::load(&path).unwrap();
+    let placement = pushpack::placement::bl::solve(&inst, 0, 8, &TimeLimit::new(30.0))
+        .unwrap()
+        .placement;
+    let opts = SequenceOptions {
+        no_direct: false,
+        no_multi_push: false,
+        max_nodes: u64::MAX,
+    };
+    let full = astar::solve(
+        &inst,
+        &placement,
+        &opts,
+        &AstarSettings::default(),
+        &TimeLimit::new(120.0),
+    )
+    .unwrap();
+    assert_eq!(full.status, SearchStatus::Complete);
+    let optimum = full.metrics.seq_len;
+    match astar::solve(&inst, &placement, &opts, &AstarSettings::default(), &StopNow) {
+        Err(e @ pushpack::error::Error::Stopped { .. }) => {
+            let pushpack::error::Error::Stopped { min_actions, .. } = &e else {
+                unreachable!()
+            };
+            let m = min_actions.expect("A* has a bound from its root");
+            assert!(
+                m >= inst.n() && m <= optimum,
+                "bound {m}, optimum {optimum}, {} objects",
+                inst.n()
+            );
+            assert!(e.to_string().contains(&format!("at least {m} actions")), "{e}");
+        }
+        Err(e) => panic!("expected Error::Stopped, got {e}"),
+        Ok(r) => panic!("a terminator that always fires still gave a plan ({:?})", r.status),
+    }
+}

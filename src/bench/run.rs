@@ -96,12 +96,13 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
         Err(p) => row.error = Some(format!("panic: {}", panic_message(p.as_ref()))),
         Ok(Err(e)) => {
             // A run stopped before any plan ran out of time (or nodes); it proved nothing.
-            if let crate::error::Error::Stopped { limit, .. } = &e {
+            if let crate::error::Error::Stopped { limit, min_actions, .. } = &e {
                 row.status = if limit == crate::error::NODE_LIMIT {
                     RunStatus::NodeLimit
                 } else {
                     RunStatus::Timeout
                 };
+                row.sequence_bound_len = *min_actions;
             }
             row.error = Some(e.to_string());
         }

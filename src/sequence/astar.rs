@@ -655,7 +655,8 @@ impl<'a> Search<'a> {
         }
         self.calls.set(self.calls.get() + 1);
         if self.deadline.get().is_some_and(|d| self.calls.get() >= d)
-            || (self.calls.get() % 256 == 0 && self.stop.is_some_and(|t| t.should_stop()))
+            // Polled from the first call on: a limit already spent stops at once.
+            || (self.calls.get() % 256 == 1 && self.stop.is_some_and(|t| t.should_stop()))
         {
             self.stopped.set(true);
         }
@@ -1670,11 +1671,16 @@ impl<'a> Search<'a> {
         if *budget == 0 || self.stop.is_some_and(|t| t.should_stop()) {
             return None;
         }
+        let key = obj_key(&root.state, self.inst.gripper.min_offset);
+        if self.len_memo.borrow().get(&key).is_some_and(|&(lo, _)| lo >= DEAD_END) {
+            return None; // reached before by another order and found dead
+        }
         *budget -= 1;
         let mut kids: Vec<(Node, Action, Option<f64>)> = self
             .successors(&root.state)
             .iter()
             .map(|(a, m)| (self.child(root, a), a.clone(), *m))
+            .filter(|(c, _, _)| c.f.len < DEAD_END)
             .collect();
         // Stable sort: the grasp axes of one placement stay in order of preference.
         match order {
@@ -1705,6 +1711,13 @@ impl<'a> Search<'a> {
                 path.insert(0, (a, m));
                 return Some((cost, path));
             }
+        }
+        // Every child was entered and failed in full (the budget never ran out, so none was
+        // cut short): no plan finishes from this state, whatever the order that led here. The
+        // fact is phase 1's too, and other orders that reach this state skip it.
+        if *budget > 0 && !self.stop.is_some_and(|t| t.should_stop()) {
+            let old = self.len_memo.borrow_mut().insert(key, (DEAD_END, usize::MAX));
+            debug_assert!(old.is_none_or(|(_, hi)| hi == usize::MAX), "a dead end with a plan");
         }
         None
     }
@@ -2751,7 +2764,11 @@ pub fn solve(
     }
     let Some((cost, path)) = plan else {
         if status != SearchStatus::Complete {
-            return Err(status.no_plan("sequence (astar)", nodes, start.elapsed().as_secs_f64()));
+            // Without an incumbent nothing was cut, so every plan passes through an open node
+            // (or the root, before the main search ran); phase 1 refuted every shorter budget.
+            let min_len = open.iter().map(|o| o.f.len).min().unwrap_or(root_bound.len).max(len_lo);
+            let min_len = (min_len < DEAD_END).then_some(min_len);
+            return Err(status.no_plan("sequence (astar)", nodes, start.elapsed().as_secs_f64(), min_len));
         }
         return Err(Error::Infeasible {
             reason: "no order of feasible actions packs every object".into(),

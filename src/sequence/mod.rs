@@ -26,8 +26,15 @@ pub enum SearchStatus {
 }
 
 impl SearchStatus {
-    /// The error of a search that stopped with this status before it had any plan.
-    pub(crate) fn no_plan(self, stage: &str, nodes: u64, elapsed_s: f64) -> crate::error::Error {
+    /// The error of a search that stopped with this status before it had any plan, with the
+    /// fewest actions it proved every plan needs, if it proved any.
+    pub(crate) fn no_plan(
+        self,
+        stage: &str,
+        nodes: u64,
+        elapsed_s: f64,
+        min_actions: Option<usize>,
+    ) -> crate::error::Error {
         crate::error::Error::Stopped {
             stage: stage.into(),
             limit: match self {
@@ -37,6 +44,7 @@ impl SearchStatus {
             .into(),
             nodes,
             elapsed_s,
+            min_actions,
         }
     }
 }

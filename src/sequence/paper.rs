@@ -418,7 +418,12 @@ pub fn solve(
 ) -> Result<SequenceResult> {
     let start = Instant::now();
     let Some(mut cands) = candidates(inst, placement, opts, stop) else {
-        return Err(SearchStatus::TimeLimit.no_plan("sequence (paper, Algorithm 1)", 0, start.elapsed().as_secs_f64()));
+        return Err(SearchStatus::TimeLimit.no_plan(
+            "sequence (paper, Algorithm 1)",
+            0,
+            start.elapsed().as_secs_f64(),
+            None,
+        ));
     };
     if cands.is_empty() {
         return Err(Error::Infeasible {
@@ -505,7 +510,7 @@ pub fn solve(
             });
         }
         if status != SearchStatus::Complete {
-            return Err(status.no_plan("sequence (paper)", nodes, start.elapsed().as_secs_f64()));
+            return Err(status.no_plan("sequence (paper)", nodes, start.elapsed().as_secs_f64(), None));
         }
         g = h;
     }
