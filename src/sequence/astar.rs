@@ -2597,6 +2597,12 @@ pub fn solve(
         let Some(Open { f, node, .. }) = open.pop() else {
             break;
         };
+        if f.len >= DEAD_END {
+            // The least bound open is a proven dead end, so is every node still open: no plan
+            // passes through any of them (the same facts refute budgets in phase 1).
+            open.push(Open { f, seq: 0, node });
+            break;
+        }
         if let Some((c, _)) = &incumbent {
             if f.cmp_lex(c) != Ordering::Less {
                 // Nothing open can beat the incumbent: it is optimal.
@@ -2763,15 +2769,23 @@ pub fn solve(
         );
     }
     let Some((cost, path)) = plan else {
-        if status != SearchStatus::Complete {
-            // Without an incumbent nothing was cut, so every plan passes through an open node
-            // (or the root, before the main search ran); phase 1 refuted every shorter budget.
-            let min_len = open.iter().map(|o| o.f.len).min().unwrap_or(root_bound.len).max(len_lo);
-            let min_len = (min_len < DEAD_END).then_some(min_len);
-            return Err(status.no_plan("sequence (astar)", nodes, start.elapsed().as_secs_f64(), min_len));
+        // Without an incumbent nothing was cut, so every plan passes through an open node (or
+        // the root, before the main search ran); phase 1 refuted every shorter budget.
+        let min_len = open.iter().map(|o| o.f.len).min().unwrap_or(root_bound.len).max(len_lo);
+        if status != SearchStatus::Complete && min_len < DEAD_END {
+            return Err(status.no_plan("sequence (astar)", nodes, start.elapsed().as_secs_f64(), Some(min_len)));
         }
+        // Searched to the end, or every node left is a proven dead end (the facts that refute
+        // budgets in phase 1 and that the exhaustive test checks).
         return Err(Error::Infeasible {
-            reason: "no order of feasible actions packs every object".into(),
+            reason: if first_bound.len >= DEAD_END {
+                "no order of feasible actions packs every object: from the start, the objects on \
+                 the table block each other's picks for good, or no set of pushable lines covers \
+                 the objects that need a push"
+                    .into()
+            } else {
+                "no order of feasible actions packs every object".into()
+            },
         });
     };
     let bound = if goal.is_some() {
