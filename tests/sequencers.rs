@@ -75,6 +75,28 @@ fn astar_is_never_worse_than_the_paper_sequencer() {
     );
 }
 
+/// A committed instance, its Bottom-Left placement (seed 0, 8 orders) and sequence options
+/// with every action kind allowed and no node limit.
+fn bl_setup(
+    rel: &str,
+) -> (
+    Instance,
+    pushpack::placement::Placement,
+    pushpack::sequence::SequenceOptions,
+) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
+    let inst = Instance::load(&path).unwrap();
+    let placement = pushpack::placement::bl::solve(&inst, 0, 8, &pushpack::control::TimeLimit::new(30.0))
+        .unwrap()
+        .placement;
+    let opts = pushpack::sequence::SequenceOptions {
+        no_direct: false,
+        no_multi_push: false,
+        max_nodes: u64::MAX,
+    };
+    (inst, placement, opts)
+}
+
 /// A terminator that fires on its first query: deterministic, unlike a short time limit.
 struct StopNow;
 
@@ -89,18 +111,8 @@ impl pushpack::control::Terminator for StopNow {
 /// `Error::Stopped`, not `Infeasible` (nothing was proven).
 #[test]
 fn paper_sequencer_stops_in_algorithm_1_and_says_so() {
-    use pushpack::control::TimeLimit;
-    use pushpack::sequence::{paper, SequenceOptions};
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("instances/random/n12/n12_k4_s0001.toml");
-    let inst = Instance::load(&path).unwrap();
-    let placement = pushpack::placement::bl::solve(&inst, 0, 8, &TimeLimit::new(30.0))
-        .unwrap()
-        .placement;
-    let opts = SequenceOptions {
-        no_direct: false,
-        no_multi_push: false,
-        max_nodes: u64::MAX,
-    };
+    use pushpack::sequence::paper;
+    let (inst, placement, opts) = bl_setup("instances/random/n12/n12_k4_s0001.toml");
     match paper::solve(&inst, &placement, &opts, &StopNow) {
         Err(pushpack::error::Error::Stopped {
             stage, limit, nodes, ..
@@ -122,17 +134,7 @@ fn paper_sequencer_stops_in_algorithm_1_and_says_so() {
 fn astar_stopped_without_a_plan_reports_its_proven_bound() {
     use pushpack::control::TimeLimit;
     use pushpack::sequence::astar::{self, AstarSettings};
-    use pushpack::sequence::SequenceOptions;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("instances/paper/exp2_8objects.toml");
-    let inst = Instance::load(&path).unwrap();
-    let placement = pushpack::placement::bl::solve(&inst, 0, 8, &TimeLimit::new(30.0))
-        .unwrap()
-        .placement;
-    let opts = SequenceOptions {
-        no_direct: false,
-        no_multi_push: false,
-        max_nodes: u64::MAX,
-    };
+    let (inst, placement, opts) = bl_setup("instances/paper/exp2_8objects.toml");
     let full = astar::solve(
         &inst,
         &placement,
