@@ -508,13 +508,7 @@ impl<'a> Search<'a> {
                 .map(|i| {
                     [0, 1].map(|k| {
                         (1..=steps[i][k])
-                            .map(|m| {
-                                let mode = PlaceMode::Indirect {
-                                    push_dir: PushDir::ALL[k],
-                                    offset: d * m as f64,
-                                };
-                                place_hits(inst, placement, &steps, i, mode)
-                            })
+                            .map(|m| place_hits(inst, placement, &steps, i, indirect_mode(k, m, d)))
                             .collect()
                     })
                 })
@@ -721,10 +715,11 @@ impl<'a> Search<'a> {
         }
         // Stored: a sibling order is asked for again on every visit of the parent.
         let table = state.iter().filter(|s| **s == ObjState::Table).count();
-        let lo = if self.picks_deadlocked(state) {
+        let released = self.released(state); // both bounds read it
+        let lo = if self.picks_deadlocked(state, &released) {
             DEAD_END
         } else {
-            (table + self.push_lower_bound(state, floor.saturating_sub(table)).0).max(floor)
+            (table + self.push_lower_bound(state, &released, floor.saturating_sub(table)).0).max(floor)
         };
         self.len_memo.borrow_mut().insert(k, (lo, usize::MAX));
         lo
@@ -735,7 +730,7 @@ impl<'a> Search<'a> {
     /// in the way both where they are and at their targets), by another of them still on the
     /// table. An object leaves the table only by its own pick, so picking whatever is free
     /// first (which only frees more) finds an order whenever one exists.
-    fn picks_deadlocked(&self, state: &[ObjState]) -> bool {
+    fn picks_deadlocked(&self, state: &[ObjState], released: &[Rel]) -> bool {
         if self.release_hits.is_empty() {
             return false; // beyond the bit masks
         }
@@ -748,7 +743,6 @@ impl<'a> Search<'a> {
         let done = (0..state.len())
             .filter(|&i| state[i] == ObjState::Done)
             .fold(0u64, |m, i| m | 1 << i);
-        let released = self.released(state);
         // Per table object, the blocker sets of its picks that are still possible.
         let sets: Vec<(usize, Vec<u64>)> = bits(table)
             .map(|i| {
@@ -765,7 +759,7 @@ impl<'a> Search<'a> {
                                 &self.release_hits[i][k][m - 1]
                             }
                         };
-                        hits.axis_open(key.axis(), done, &[], &released)
+                        hits.axis_open(key.axis(), done, &[], released)
                     })
                     .flat_map(|(_, b)| b.iter().copied())
                     .collect();
@@ -821,14 +815,10 @@ impl<'a> Search<'a> {
             .iter()
             .enumerate()
             .filter_map(|(i, s)| match s {
-                ObjState::Released { push_dir, offset, .. } => Some((
-                    i,
-                    PushDir::ALL
-                        .iter()
-                        .position(|x| x == push_dir)
-                        .expect("a push direction"),
-                    (offset / d).round() as usize,
-                )),
+                ObjState::Released { push_dir, offset, .. } => {
+                    let (k, m) = step_of(*push_dir, *offset, d);
+                    Some((i, k, m))
+                }
                 _ => None,
             })
             .collect()
@@ -843,30 +833,14 @@ impl<'a> Search<'a> {
         let inst = self.inst;
         let empty = Layout::new(inst, self.placement);
         let d = inst.gripper.min_offset;
-        let mut keys = Vec::new();
-        for ax in 0..2 {
-            if !self.opts.no_direct {
-                keys.push(PlaceKey::Direct(ax));
-            }
-            for k in 0..2 {
-                for m in 1..=self.steps[i][k] {
-                    keys.push(PlaceKey::Indirect(k, m, ax));
-                }
-            }
-        }
         let mut out = Vec::new();
-        for key in keys {
-            let mode = match key {
-                PlaceKey::Direct(_) => PlaceMode::Direct,
-                PlaceKey::Indirect(k, m, _) => PlaceMode::Indirect {
-                    push_dir: PushDir::ALL[k],
-                    offset: d * m as f64,
-                },
-            };
+        let keyed = (0..2).flat_map(|ax| place_modes(self.opts.no_direct, self.steps[i], d).map(move |m| (ax, m)));
+        for (ax, mode) in keyed {
+            let key = PlaceKey::of(mode, ax, d);
             let a = Action::Place {
                 object: i,
                 mode,
-                grasp_axis: [Axis2::X, Axis2::Y][key.axis()],
+                grasp_axis: [Axis2::X, Axis2::Y][ax],
                 arm: pick_arm(inst, i),
             };
             if empty.check(&a).is_err() {
@@ -995,9 +969,10 @@ impl<'a> Search<'a> {
 
     /// Lower bound on the pushes still needed, and the objects that need one.
     /// `floor` is a number of pushes already proven necessary.
-    fn push_lower_bound(&self, state: &[ObjState], floor: usize) -> (usize, Vec<usize>) {
+    /// `released` is [`Search::released`] of `state`.
+    fn push_lower_bound(&self, state: &[ObjState], released: &[Rel], floor: usize) -> (usize, Vec<usize>) {
         if let Some(pl) = &self.push_lines {
-            return self.line_cover_bound(pl, state, floor);
+            return self.line_cover_bound(pl, state, released, floor);
         }
         let inst = self.inst;
         let needs_push = self.must_push(state);
@@ -1063,7 +1038,13 @@ impl<'a> Search<'a> {
     /// usable line serves together need two pushes, so a largest set of pairwise unshareable
     /// demands bounds the pushes. A demand that no usable line serves at all makes the state a
     /// dead end ([`DEAD_END`]).
-    fn line_cover_bound(&self, lines: &[PushLine], state: &[ObjState], floor: usize) -> (usize, Vec<usize>) {
+    fn line_cover_bound(
+        &self,
+        lines: &[PushLine],
+        state: &[ObjState],
+        released: &[Rel],
+        floor: usize,
+    ) -> (usize, Vec<usize>) {
         let mut done = 0u64;
         let mut allow = [0u64; 2];
         for (i, s) in state.iter().enumerate() {
@@ -1086,7 +1067,6 @@ impl<'a> Search<'a> {
         }
         // Per table object, the objects in every finger slab still usable (`None`: no usable
         // slab left, so the object needs a push).
-        let released = self.released(state);
         // Per table object, the objects in every finger slab still usable (`None`: no usable
         // slab left, so the object needs a push). A slab is lost for good to an object done,
         // or to one released that stands in it both where it is and at its target.
@@ -1428,19 +1408,7 @@ impl<'a> Search<'a> {
                 continue;
             }
             let arm = pick_arm(inst, i);
-            let mut modes = Vec::new();
-            if !self.opts.no_direct {
-                modes.push(PlaceMode::Direct);
-            }
-            for (k, dir) in PushDir::ALL.into_iter().enumerate() {
-                for m in 1..=self.steps[i][k] {
-                    modes.push(PlaceMode::Indirect {
-                        push_dir: dir,
-                        offset: d * m as f64,
-                    });
-                }
-            }
-            for mode in modes {
+            for mode in place_modes(self.opts.no_direct, self.steps[i], d) {
                 let axes = match mode {
                     PlaceMode::Indirect { push_dir, .. } => [push_dir.axis(), push_dir.axis().other()],
                     PlaceMode::Direct => [Axis2::X, Axis2::Y],
@@ -2000,6 +1968,43 @@ impl PlaceKey {
             PlaceKey::Direct(ax) | PlaceKey::Indirect(_, _, ax) => ax,
         }
     }
+
+    /// The key of `mode` with grasp axis `ax` (offsets in steps of `d`).
+    fn of(mode: PlaceMode, ax: usize, d: f64) -> PlaceKey {
+        match mode {
+            PlaceMode::Direct => PlaceKey::Direct(ax),
+            PlaceMode::Indirect { push_dir, offset } => {
+                let (k, m) = step_of(push_dir, offset, d);
+                PlaceKey::Indirect(k, m, ax)
+            }
+        }
+    }
+}
+
+/// An indirect place mode by push direction (index into [`PushDir::ALL`]) and offset step.
+fn indirect_mode(k: usize, m: usize, d: f64) -> PlaceMode {
+    PlaceMode::Indirect {
+        push_dir: PushDir::ALL[k],
+        offset: d * m as f64,
+    }
+}
+
+/// The push direction (index into [`PushDir::ALL`]) and offset step of a release.
+fn step_of(push_dir: PushDir, offset: f64, d: f64) -> (usize, usize) {
+    let k = PushDir::ALL
+        .iter()
+        .position(|x| *x == push_dir)
+        .expect("a push direction");
+    (k, (offset / d).round() as usize)
+}
+
+/// Every place mode of an object with `steps` offset steps per push direction: direct first
+/// (unless forbidden), then each direction's offsets, nearest first.
+fn place_modes(no_direct: bool, steps: [usize; 2], d: f64) -> impl Iterator<Item = PlaceMode> {
+    (!no_direct)
+        .then_some(PlaceMode::Direct)
+        .into_iter()
+        .chain((0..2).flat_map(move |k| (1..=steps[k]).map(move |m| indirect_mode(k, m, d))))
 }
 
 impl PlaceHits {
