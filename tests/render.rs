@@ -198,3 +198,50 @@ fn a_plan_for_another_instance_is_an_error_not_a_picture() {
     assert!(err.to_string().contains("no-such-box"), "{err}");
     assert!(!tmp.path().join("placement.svg").exists());
 }
+
+/// A run whose sequence stage finds no plan still leaves its placement (JSON and picture) and
+/// says so, and a plan.json left by an earlier run is flagged as not this run's.
+#[test]
+fn plan_without_a_sequence_still_writes_its_placement() {
+    use pushpack::placement::PlacementResult;
+    use pushpack::plan::{solve_placement, PlacementSolver};
+    // A* proves at its root that this Bottom-Left placement has no plan (the dense bottom row
+    // blocks every pick for good), so the run fails at once and deterministically.
+    let file = "instances/random/n12/n12_k4_s0016.toml";
+    let inst = Instance::load(file).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("plan.json"), "{}").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pushpack"))
+        .args(["plan", file, "--placement", "bl", "--time-limit", "30", "--out"])
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "a run without a plan fails: {stderr}");
+    assert!(stderr.contains("no feasible plan"), "{stderr}");
+    assert!(stderr.contains("placement.json"), "{stderr}");
+    assert!(
+        stderr.contains("is from an earlier run"),
+        "the stale plan.json is flagged: {stderr}"
+    );
+
+    let json = std::fs::read_to_string(tmp.path().join("placement.json")).unwrap();
+    let written: PlacementResult = serde_json::from_str(&json).unwrap();
+    let again = solve_placement(
+        &inst,
+        PlacementSolver::Bl,
+        inst.settings.seed,
+        inst.settings.bl_orders,
+        30.0,
+    )
+    .unwrap();
+    assert_eq!(written.placement, again.placement, "the file holds the run's placement");
+    assert_eq!(written.placement.targets.len(), inst.n());
+
+    let svg = std::fs::read_to_string(tmp.path().join("placement.svg")).unwrap();
+    let texts = check_well_formed("placement.svg", &svg).join(" ");
+    for o in &inst.objects {
+        assert!(texts.contains(&o.id), "placement.svg shows {}", o.id);
+    }
+    assert!(!tmp.path().join("storyboard.svg").exists());
+}

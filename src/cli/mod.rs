@@ -3,8 +3,10 @@
 
 use crate::error::Error;
 use crate::instance::Instance;
-use crate::plan::{optimize, solve_placement, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer};
-use crate::render::render;
+use crate::plan::{
+    optimize, sequence_placement, solve_placement, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer,
+};
+use crate::render::{render, render_placement};
 use crate::verify::verify;
 use clap::{Args, Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -359,11 +361,38 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             if compare_ablations {
                 print_ablations(&inst, &o)?;
             }
-            let outcome = optimize(&inst, &o)?;
+            let placed = solve_placement(&inst, o.placement, o.seed, o.bl_orders, o.time_limit)?;
             std::fs::create_dir_all(&out).map_err(|e| Error::Io {
                 path: out.clone(),
                 source: e,
             })?;
+            let outcome = match sequence_placement(&inst, &o, placed.clone()) {
+                Ok(x) => x,
+                Err(e) => {
+                    // No plan.json without a sequence, but the placement was found and is the
+                    // first thing a user looks at to see why: write it and say where.
+                    let path = out.join("placement.json");
+                    let json = serde_json::to_string_pretty(&placed).expect("serialisable");
+                    std::fs::write(&path, json + "\n").map_err(|e| Error::Io {
+                        path: path.clone(),
+                        source: e,
+                    })?;
+                    eprintln!("wrote      {} (the placement; no sequence was found)", path.display());
+                    if !no_render {
+                        let svg = render_placement(&inst, &placed, &out)?;
+                        eprintln!("wrote      {}", svg.display());
+                    }
+                    for stale in ["plan.json", "storyboard.svg", "swept.svg"] {
+                        if out.join(stale).exists() {
+                            eprintln!(
+                                "note       {} is from an earlier run, not this one",
+                                out.join(stale).display()
+                            );
+                        }
+                    }
+                    return Err(e);
+                }
+            };
             let path = out.join("plan.json");
             outcome.plan.save(&path)?;
             print_summary(&inst, &outcome);

@@ -443,6 +443,13 @@ pub struct PlanOutcome {
 /// Run every stage: placement, then actions and their order; return the plan.
 pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
     let placement = solve_placement(inst, opts.placement, opts.seed, opts.bl_orders, opts.time_limit)?;
+    sequence_placement(inst, opts, placement)
+}
+
+/// The stages after placement: choose actions and their order for `placement`, then assemble
+/// the plan. Callers that want the placement even when no sequence is found (the CLI draws it)
+/// run [`solve_placement`] and this themselves; [`optimize`] is the two in one.
+pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: PlacementResult) -> Result<PlanOutcome> {
     let limit = TimeLimit::new(opts.time_limit);
     let seq_opts = SequenceOptions {
         no_direct: opts.no_direct,

@@ -13,6 +13,9 @@
 //! * `swept.svg` — the swept area (bounding rectangle from C's origin of every footprint so far,
 //!   releases included) after each step, as a step plot.
 //!
+//! [`render_placement`] writes `placement.svg` alone, from a placement stage result, for runs
+//! whose sequence stage found no plan.
+//!
 //! C's y axis points up on the page, x to the right, as in the paper's figures.
 
 mod svg;
@@ -21,7 +24,7 @@ use crate::actions::{Action, PlaceMode};
 use crate::error::{Error, Result};
 use crate::geometry::{Axis2, PushDir, Rect};
 use crate::instance::Instance;
-use crate::placement::Placement;
+use crate::placement::{Placement, PlacementResult, PlacementStatus};
 use crate::plan::Plan;
 use crate::robot::Arm;
 use std::path::{Path, PathBuf};
@@ -38,7 +41,10 @@ pub fn render(inst: &Instance, plan: &Plan, out_dir: &Path) -> Result<Vec<PathBu
     })?;
     let story = Story::new(inst, &placement, &actions);
     let files = [
-        ("placement.svg", placement_svg(inst, plan, &placement)),
+        (
+            "placement.svg",
+            placement_svg(inst, &plan.placement.solver, plan.placement.status, &placement),
+        ),
         (
             "storyboard.svg",
             storyboard_svg(inst, plan, &placement, &actions, &story),
@@ -55,6 +61,21 @@ pub fn render(inst: &Instance, plan: &Plan, out_dir: &Path) -> Result<Vec<PathBu
         out.push(path);
     }
     Ok(out)
+}
+
+/// Write `placement.svg` alone for a placement stage result into `out_dir` (created if
+/// missing); for runs that end without a sequence. Returns the path written.
+pub fn render_placement(inst: &Instance, r: &PlacementResult, out_dir: &Path) -> Result<PathBuf> {
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::Io {
+        path: out_dir.to_path_buf(),
+        source: e,
+    })?;
+    let path = out_dir.join("placement.svg");
+    std::fs::write(&path, placement_svg(inst, &r.solver, r.status, &r.placement)).map_err(|e| Error::Io {
+        path: path.clone(),
+        source: e,
+    })?;
+    Ok(path)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -236,7 +257,7 @@ impl Story {
 // ---------------------------------------------------------------------------------------------
 // placement.svg
 
-fn placement_svg(inst: &Instance, plan: &Plan, p: &Placement) -> String {
+fn placement_svg(inst: &Instance, solver: &str, status: PlacementStatus, p: &Placement) -> String {
     let c = &inst.container;
     let t = c.wall_thickness;
     let s = (620.0 / c.width).min(440.0 / c.depth);
@@ -281,8 +302,8 @@ fn placement_svg(inst: &Instance, plan: &Plan, p: &Placement) -> String {
             cm(mx),
             cm(my),
             cm(contact),
-            plan.placement.solver,
-            serde_json::to_value(plan.placement.status)
+            solver,
+            serde_json::to_value(status)
                 .ok()
                 .and_then(|x| x.as_str().map(String::from))
                 .unwrap_or_default()
