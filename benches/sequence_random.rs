@@ -2,12 +2,15 @@
 //! the paper's eight-object instance.
 //!
 //! Not a criterion bench: a run takes seconds to minutes. The placement is fixed and cheap:
-//! Bottom-Left (64 orders, seeded) for the random instances, so only the sequence stage is timed;
+//! Bottom-Left with the instance's seed and order count (256), as `pushpack plan --placement bl`
+//! places it, for the random instances, so only the sequence stage is timed;
 //! the paper instance uses its MILP placement, as `pushpack plan` does by default. Per size it
 //! reports, for each sequencer, the time to a proven optimum (A*) or to a complete search of its
 //! own candidate space (paper), median and max; nodes expanded (median); the share finished
-//! within the limit; and for A* runs stopped by the limit, the mean gap per cost component
-//! (incumbent − proven lower bound: actions, swept area in cm², travel in m). Run:
+//! within the limit; runs without a plan, split into proven to have none (A*'s bound) and
+//! stopped (with A*'s proven minimum number of actions); and for A* runs stopped by the limit
+//! with a plan, the mean gap per cost component (incumbent − proven lower bound: actions, swept
+//! area in cm², travel in m). Run:
 //!
 //! ```sh
 //! cargo bench --bench sequence_random -- [--sizes 6,8,10,12,16,20] [--count 10] [--seeds 0,3] [--time-limit 60] \
@@ -17,6 +20,7 @@
 //! Per-instance lines go to stderr, the summary tables to stdout.
 
 use pushpack::control::TimeLimit;
+use pushpack::error::Error;
 use pushpack::instance::generate::{random_instance, to_toml, GenerateParams};
 use pushpack::instance::Instance;
 use pushpack::placement::{bl, Placement};
@@ -57,6 +61,15 @@ fn run(which: &str, inst: &Instance, placement: &Placement, limit: f64) -> pushp
 }
 
 /// Gap per component of a stopped A* run: (actions, area cm², travel m).
+/// A table cell listing seeds: `–` when none, else the count and the seeds.
+fn list(v: &[String]) -> String {
+    if v.is_empty() {
+        "–".to_string()
+    } else {
+        format!("{}: {}", v.len(), v.join(", "))
+    }
+}
+
 fn gap(r: &SequenceResult) -> [f64; 3] {
     let b: Cost = r.bound.expect("A* reports a bound");
     [
@@ -135,8 +148,8 @@ fn main() {
 
     println!("Random instances (BL placement, {count} seeds per size, {limit} s limit per run):");
     println!();
-    println!("| objects | sequencer | instances | finished | share finished | median time (s) | max time (s) | median nodes | stopped: mean gap (actions, cm², m) |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| objects | sequencer | instances | finished | share finished | median time (s) | max time (s) | median nodes | stopped with a plan: mean gap (actions, cm², m) | proven no plan (seeds) | stopped without a plan (seeds, proven min. actions) |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for &n in &sizes {
         for which in &sequencers {
             let mut times = Vec::new();
@@ -144,12 +157,18 @@ fn main() {
             let mut gaps: Vec<[f64; 3]> = Vec::new();
             let mut finished = 0;
             let mut instances = 0;
-            let mut note = Vec::new();
+            let mut infeasible: Vec<String> = Vec::new();
+            let mut stopped: Vec<String> = Vec::new();
             for &seed in &seeds {
                 let kinds = 2 + (seed as usize % 3);
                 let text = to_toml(&random_instance(&GenerateParams::new(n, kinds.min(n), seed)).expect("valid"));
                 let inst = Instance::parse(&text, false, "<bench>", None).expect("generated instances validate");
-                let placement = match bl::solve(&inst, seed, 64, &TimeLimit::new(60.0)) {
+                let placement = match bl::solve(
+                    &inst,
+                    inst.settings.seed,
+                    inst.settings.bl_orders,
+                    &TimeLimit::new(60.0),
+                ) {
                     Ok(p) => p.placement,
                     Err(e) => {
                         eprintln!("n={n:2} seed={seed}: BL failed: {e}");
@@ -185,14 +204,20 @@ fn main() {
                     }
                     Err(e) => {
                         eprintln!("n={n:2} seed={seed} {which}: no plan: {e}");
-                        note.push(format!("seed {seed}: no plan"));
+                        match e {
+                            Error::Infeasible { .. } => infeasible.push(format!("{seed}")),
+                            Error::Stopped {
+                                min_actions: Some(m), ..
+                            } => stopped.push(format!("{seed} (≥ {m})")),
+                            _ => stopped.push(format!("{seed}")),
+                        }
                     }
                 }
             }
             let max = times.iter().cloned().fold(f64::NAN, f64::max);
             let g = |k: usize| mean(&gaps.iter().map(|g| g[k]).collect::<Vec<_>>());
             println!(
-                "| {n} | {which} | {instances} | {finished} | {:.0} % | {} | {} | {} | {}{} |",
+                "| {n} | {which} | {instances} | {finished} | {:.0} % | {} | {} | {} | {} | {} | {} |",
                 100.0 * finished as f64 / instances.max(1) as f64,
                 fmt(median(&times), 3),
                 fmt(max, 3),
@@ -202,11 +227,8 @@ fn main() {
                 } else {
                     format!("{} runs: ({:.2}, {:.2}, {:.3})", gaps.len(), g(0), g(1), g(2))
                 },
-                if note.is_empty() {
-                    String::new()
-                } else {
-                    format!("; {}", note.join(", "))
-                }
+                list(&infeasible),
+                list(&stopped)
             );
         }
     }
