@@ -8,6 +8,9 @@ use std::path::PathBuf;
 pub const TIME_LIMIT: &str = "time limit";
 /// `Error::Stopped::limit` of a stop by the node count.
 pub const NODE_LIMIT: &str = "node limit";
+/// `Error::Stopped::limit` of the paper sequencer's Algorithm 1 stopped by its memory cap
+/// (`sequence::paper::MAX_CANDIDATES`).
+pub const CANDIDATE_LIMIT: &str = "candidate limit";
 
 /// Everything that can go wrong in pushpack.
 #[derive(Debug, thiserror::Error)]
@@ -40,7 +43,7 @@ pub enum Error {
     Stopped {
         /// The stage that stopped (`"sequence (astar)"`, `"sequence (paper)"`).
         stage: String,
-        /// [`TIME_LIMIT`] or [`NODE_LIMIT`].
+        /// [`TIME_LIMIT`], [`NODE_LIMIT`] or [`CANDIDATE_LIMIT`].
         limit: String,
         /// Nodes expanded before the stop.
         nodes: u64,

@@ -126,6 +126,24 @@ fn paper_sequencer_stops_in_algorithm_1_and_says_so() {
     }
 }
 
+/// Algorithm 1 holds every candidate in memory (a 16-object run once filled 22 GB within a
+/// minute), so it stops at a cap: exactly when the candidates outnumber it, not before.
+#[test]
+fn paper_algorithm_1_stops_at_its_candidate_cap_and_not_before() {
+    use pushpack::control::TimeLimit;
+    use pushpack::sequence::paper::{candidates, CandidatesStop};
+    let (inst, placement, opts) = bl_setup("instances/paper/exp2_8objects.toml");
+    let stop = TimeLimit::new(600.0);
+    let all = candidates(&inst, &placement, &opts, usize::MAX, &stop).expect("the full space fits");
+    assert!(all.len() > 1000, "exp2 has {} candidates", all.len());
+    let at_cap = candidates(&inst, &placement, &opts, all.len(), &stop).expect("exactly at the cap");
+    assert_eq!(at_cap, all, "a cap the space fits in changes nothing");
+    assert_eq!(
+        candidates(&inst, &placement, &opts, all.len() - 1, &stop),
+        Err(CandidatesStop::Candidates)
+    );
+}
+
 /// A* stopped before any plan still reports what it proved: the fewest actions any plan needs,
 /// in the error and its message. Checked against the optimum of a full run on the paper's
 /// eight-object instance (the stopped bound may be weaker, never above it), and against the

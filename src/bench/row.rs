@@ -17,8 +17,8 @@ pub enum RunStatus {
     /// The run's process exceeded the hard wall-clock limit and was killed, or the library's
     /// time limit stopped a stage before it had any plan.
     Timeout,
-    /// A stage's node limit (not the clock) stopped it before it had any plan: a larger
-    /// node limit may find one, a longer time limit would not.
+    /// A stage's node limit, or the paper sequencer's candidate cap (not the clock), stopped
+    /// it before it had any plan: a larger limit may find one, a longer time limit would not.
     NodeLimit,
 }
 

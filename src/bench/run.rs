@@ -97,7 +97,8 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
         Ok(Err(e)) => {
             // A run stopped before any plan ran out of time (or nodes); it proved nothing.
             if let crate::error::Error::Stopped { limit, min_actions, .. } = &e {
-                row.status = if limit == crate::error::NODE_LIMIT {
+                // A cap on work or memory, not the clock: a longer time limit would not help.
+                row.status = if limit == crate::error::NODE_LIMIT || limit == crate::error::CANDIDATE_LIMIT {
                     RunStatus::NodeLimit
                 } else {
                     RunStatus::Timeout

@@ -185,14 +185,31 @@ impl Candidate {
     }
 }
 
-/// Algorithm 1: every candidate of the assignment space, or `None` if `stop` fired first (the
-/// space has `3^N` assignments: minutes at ten objects).
+/// Why Algorithm 1 stopped before it had every candidate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CandidatesStop {
+    /// The terminator fired.
+    Time,
+    /// There are more candidates than the cap allows to keep.
+    Candidates,
+}
+
+/// Most candidates Algorithm 1 keeps. They are all held in memory at once: at the cap a
+/// 16-object run peaks at 4.3 GB (about 2 kB per candidate, with its duplicate-check key),
+/// and without a cap one filled 22 GB within a minute and was killed. Up to 12 objects the
+/// whole space fits (at most `3 · 3^12` ≈ 1.6 million candidates).
+pub const MAX_CANDIDATES: usize = 2_000_000;
+
+/// Algorithm 1: every candidate of the assignment space (`3^N` assignments: minutes at ten
+/// objects), or why it stopped first: the clock, or more than `max_candidates` candidates
+/// ([`solve`] passes [`MAX_CANDIDATES`]).
 pub fn candidates(
     inst: &Instance,
     placement: &Placement,
     opts: &SequenceOptions,
+    max_candidates: usize,
     stop: &dyn Terminator,
-) -> Option<Vec<Candidate>> {
+) -> std::result::Result<Vec<Candidate>, CandidatesStop> {
     let n = inst.n();
     let mut choices = Vec::new();
     if !opts.no_direct {
@@ -219,13 +236,13 @@ pub fn candidates(
     let mut seen = std::collections::HashSet::new();
     let mut idx = vec![0usize; n];
     if options.iter().any(|o| o.is_empty()) {
-        return Some(out);
+        return Ok(out);
     }
     let mut count = 0u64;
     loop {
         count += 1;
         if count % 256 == 0 && stop.should_stop() {
-            return None;
+            return Err(CandidatesStop::Time);
         }
         let assign: Vec<Choice> = (0..n).map(|i| options[i][idx[i]]).collect();
         let direct: Vec<usize> = (0..n).filter(|&i| assign[i] == Choice::Direct).collect();
@@ -259,6 +276,9 @@ pub fn candidates(
                 // A hash set, not `out.contains`: the linear scan made Algorithm 1 quadratic in
                 // the number of candidates (minutes at ten objects).
                 if seen.insert(c.key()) {
+                    if out.len() >= max_candidates {
+                        return Err(CandidatesStop::Candidates);
+                    }
                     out.push(c);
                 }
             }
@@ -267,7 +287,7 @@ pub fn candidates(
         let mut k = 0;
         loop {
             if k == n {
-                return Some(out);
+                return Ok(out);
             }
             idx[k] += 1;
             if idx[k] < options[k].len() {
@@ -417,14 +437,17 @@ pub fn solve(
     stop: &dyn Terminator,
 ) -> Result<SequenceResult> {
     let start = Instant::now();
-    let Some(mut cands) = candidates(inst, placement, opts, stop) else {
-        return Err(SearchStatus::TimeLimit.no_plan(
-            "sequence (paper, Algorithm 1)",
-            0,
-            start.elapsed().as_secs_f64(),
-            None,
-        ));
-    };
+    let stage = "sequence (paper, Algorithm 1)";
+    let mut cands = candidates(inst, placement, opts, MAX_CANDIDATES, stop).map_err(|why| match why {
+        CandidatesStop::Time => SearchStatus::TimeLimit.no_plan(stage, 0, start.elapsed().as_secs_f64(), None),
+        CandidatesStop::Candidates => Error::Stopped {
+            stage: stage.into(),
+            limit: crate::error::CANDIDATE_LIMIT.into(),
+            nodes: 0,
+            elapsed_s: start.elapsed().as_secs_f64(),
+            min_actions: None,
+        },
+    })?;
     if cands.is_empty() {
         return Err(Error::Infeasible {
             reason: "no packing-action assignment keeps every release inside the container".into(),
