@@ -70,3 +70,41 @@ fn contact_length_counts_walls_and_neighbours() {
     assert!((r.placement.contact_length(&inst) - expect).abs() < 1e-12);
     assert!(expect > 0.0);
 }
+
+/// The alternatives a sequencer falls back on: every placement distinct and valid, best first,
+/// the first as good as `solve`'s, and the same list for the same seed.
+#[test]
+fn bl_alternatives_are_distinct_valid_and_best_first() {
+    for seed in 0..12u64 {
+        let n = 3 + (seed as usize % 8);
+        let inst = common::parse(&common::random_instance_text(seed, n, 1 + seed as usize % 4, "any"));
+        let stop = TimeLimit::new(60.0);
+        let alts = bl::alternatives(&inst, seed, 40, &stop);
+        let best = bl::solve(&inst, seed, 40, &stop).unwrap();
+        assert!(
+            !alts.is_empty() && alts.len() <= 40,
+            "seed {seed}: {} alternatives",
+            alts.len()
+        );
+        assert!(
+            (alts[0].occupied_area() - best.placement.occupied_area()).abs() < 1e-9,
+            "seed {seed}: the first alternative is as small as the best placement"
+        );
+        for (k, p) in alts.iter().enumerate() {
+            assert!(p.violations(&inst).is_empty(), "seed {seed} alternative {k}");
+            assert!(is_bl_stable(&p.targets));
+            assert!(alts[..k].iter().all(|q| q != p), "seed {seed}: alternative {k} repeats");
+            if k > 0 {
+                assert!(
+                    p.occupied_area() >= alts[k - 1].occupied_area() - 1e-9,
+                    "seed {seed}: sorted"
+                );
+            }
+        }
+        assert_eq!(
+            alts,
+            bl::alternatives(&inst, seed, 40, &stop),
+            "seed {seed}: deterministic"
+        );
+    }
+}

@@ -224,6 +224,10 @@ fn plan_without_a_sequence_still_writes_its_placement() {
         stderr.contains("is from an earlier run"),
         "the stale plan.json is flagged: {stderr}"
     );
+    assert!(
+        stderr.contains("--placement-alternatives"),
+        "the way out is named: {stderr}"
+    );
 
     let json = std::fs::read_to_string(tmp.path().join("placement.json")).unwrap();
     let written: PlacementResult = serde_json::from_str(&json).unwrap();

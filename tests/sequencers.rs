@@ -180,3 +180,61 @@ fn astar_stopped_without_a_plan_reports_its_proven_bound() {
         Ok(r) => panic!("a terminator that always fires still gave a plan ({:?})", r.status),
     }
 }
+
+/// `n12_k4_s0016`'s Bottom-Left placement has no plan (A* proves it at its root). With
+/// `placement_alternatives` the planner moves on to the next distinct Bottom-Left placements,
+/// each skipped one proven to have no plan as well, and returns a valid plan on the first that
+/// has one, saying which.
+#[test]
+fn a_placement_proven_to_have_no_plan_falls_back_to_the_next_bl_placement() {
+    use pushpack::control::TimeLimit;
+    use pushpack::placement::bl;
+    use pushpack::sequence::astar::{self, AstarSettings};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("instances/random/n12/n12_k4_s0016.toml");
+    let inst = Instance::load(&path).unwrap();
+    let mut o = PlanOptions::from_instance(&inst);
+    o.placement = PlacementSolver::Bl;
+    // Long enough for A*'s first dive on a loaded CI machine (2 s idle); the search then runs
+    // to the limit without a proof, which this test does not need.
+    o.time_limit = 30.0;
+    match optimize(&inst, &o) {
+        Err(pushpack::error::Error::Infeasible { .. }) => {}
+        other => panic!(
+            "the default keeps the placement, which has no plan: {:?}",
+            other.map(|x| x.plan.metrics)
+        ),
+    }
+    o.placement_alternatives = 5;
+    let out = optimize(&inst, &o).expect("an alternative placement has a plan");
+    let r = verify(&inst, &out.plan);
+    assert!(r.is_valid(), "{r}");
+    let k = out.plan.placement.alternative;
+    assert!((1..=5).contains(&k), "alternative {k}");
+    assert_eq!(
+        out.plan.placement.status,
+        pushpack::placement::PlacementStatus::Feasible
+    );
+
+    // The placement used is the k-th distinct Bottom-Left placement after the stage's own, and
+    // every one skipped before it is proven to have no plan.
+    let stop = TimeLimit::new(60.0);
+    let first = bl::solve(&inst, o.seed, o.bl_orders, &stop).unwrap().placement;
+    let alts: Vec<_> = bl::alternatives(&inst, o.seed, o.bl_orders, &stop)
+        .into_iter()
+        .filter(|p| *p != first)
+        .collect();
+    assert_eq!(out.placement.placement, alts[k - 1]);
+    assert!(out.placement.placement.occupied_area() >= first.occupied_area() - 1e-12);
+    let opts = pushpack::sequence::SequenceOptions {
+        no_direct: false,
+        no_multi_push: false,
+        max_nodes: o.max_nodes,
+    };
+    for p in std::iter::once(&first).chain(&alts[..k - 1]) {
+        match astar::solve(&inst, p, &opts, &AstarSettings::default(), &TimeLimit::new(30.0)) {
+            Err(pushpack::error::Error::Infeasible { .. }) => {}
+            Err(e) => panic!("a skipped placement: {e}"),
+            Ok(r) => panic!("a skipped placement has a plan of {} actions", r.metrics.seq_len),
+        }
+    }
+}

@@ -215,6 +215,10 @@ struct PlanArgs {
     /// Node limit of the sequence search.
     #[arg(long)]
     max_nodes: Option<u64>,
+    /// When the sequencer proves the placement has no plan, try up to N further Bottom-Left
+    /// placements, best first (default 0: keep the placement).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    placement_alternatives: usize,
 }
 
 impl PlanArgs {
@@ -244,6 +248,7 @@ impl PlanArgs {
             }
             o.max_nodes = n;
         }
+        o.placement_alternatives = self.placement_alternatives;
         Ok(o)
     }
 }
@@ -381,6 +386,11 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                     if !no_render {
                         let svg = render_placement(&inst, &placed, &out)?;
                         eprintln!("wrote      {}", svg.display());
+                    }
+                    if matches!(e, Error::Infeasible { .. }) && o.placement_alternatives == 0 {
+                        eprintln!(
+                            "hint       --placement-alternatives N tries the next N Bottom-Left placements when one is proven to have no plan"
+                        );
                     }
                     for stale in ["plan.json", "storyboard.svg", "swept.svg"] {
                         if out.join(stale).exists() {
@@ -625,6 +635,15 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
         ps.gap * 100.0,
         ps.contact_length * 100.0
     );
+    match ps.alternative {
+        0 => {}
+        1 => println!("           alternative 1: the placement stage's result was proven to have no plan"),
+        k => println!(
+            "           alternative {k}: the placement stage's result and the {} alternative{} before this one were proven to have no plan",
+            k - 1,
+            if k == 2 { "" } else { "s" }
+        ),
+    }
     println!(
         "sequence   {} actions: {} direct places, {} indirect places, {} pushes ({} multi-object)",
         m.seq_len, m.n_place_direct, m.n_place_indirect, m.n_push, m.n_multi_push

@@ -20,39 +20,18 @@ use std::time::Instant;
 /// Run Bottom-Left over `orders` orders (the first deterministic, the rest shuffled by `seed`).
 pub fn solve(inst: &Instance, seed: u64, orders: usize, stop: &dyn Terminator) -> Result<PlacementResult> {
     let start = Instant::now();
-    let n = inst.n();
-    let mut order: Vec<usize> = (0..n).collect();
-    let min_area = |i: usize| {
-        let o = &inst.objects[i];
-        o.orientations
-            .iter()
-            .map(|q| q.dims(o.size).0[0] * q.dims(o.size).0[1])
-            .fold(0.0, f64::max)
-    };
-    order.sort_by(|a, b| min_area(*b).total_cmp(&min_area(*a)).then(a.cmp(b)));
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut best: Option<(f64, f64, Placement)> = None;
-    let mut tried = 0u64;
-    for k in 0..orders.max(1) {
-        if k > 0 {
-            if stop.should_stop() {
-                break;
-            }
-            order.shuffle(&mut rng);
+    let tried = for_each_order(inst, seed, orders, stop, |p| {
+        let area = p.occupied_area();
+        let contact = p.contact_length(inst);
+        let better = match &best {
+            None => true,
+            Some((ba, bc, _)) => area < ba - 1e-12 || (area <= ba + 1e-12 && contact > bc + 1e-12),
+        };
+        if better {
+            best = Some((area, contact, p));
         }
-        tried += 1;
-        if let Some(p) = place_in_order(inst, &order) {
-            let area = p.occupied_area();
-            let contact = p.contact_length(inst);
-            let better = match &best {
-                None => true,
-                Some((ba, bc, _)) => area < ba - 1e-12 || (area <= ba + 1e-12 && contact > bc + 1e-12),
-            };
-            if better {
-                best = Some((area, contact, p));
-            }
-        }
-    }
+    });
     let (_, _, placement) = best.ok_or_else(|| Error::Infeasible {
         reason: format!("Bottom-Left found no placement that fits the container in {tried} orders"),
     })?;
@@ -66,6 +45,61 @@ pub fn solve(inst: &Instance, seed: u64, orders: usize, stop: &dyn Terminator) -
         nodes: tried,
         subproblems: 0,
     })
+}
+
+/// Every distinct placement the orders of [`solve`] produce, best first (occupied area, then
+/// contact length, each on a 1e-10 grid so that the order is total, then the order that found
+/// it). For a sequencer that proves a placement has no plan, these are the next ones to try.
+pub fn alternatives(inst: &Instance, seed: u64, orders: usize, stop: &dyn Terminator) -> Vec<Placement> {
+    let mut found: Vec<((i64, i64, usize), Placement)> = Vec::new();
+    for_each_order(inst, seed, orders, stop, |p| {
+        if found.iter().all(|(_, q)| *q != p) {
+            let key = (
+                (p.occupied_area() * 1e10).round() as i64,
+                -(p.contact_length(inst) * 1e10).round() as i64,
+                found.len(),
+            );
+            found.push((key, p));
+        }
+    });
+    found.sort_by_key(|(k, _)| *k);
+    found.into_iter().map(|(_, p)| p).collect()
+}
+
+/// Run Bottom-Left in each of [`solve`]'s orders until `stop` fires, handing every placement
+/// that fits to `f`; returns the number of orders tried.
+fn for_each_order(
+    inst: &Instance,
+    seed: u64,
+    orders: usize,
+    stop: &dyn Terminator,
+    mut f: impl FnMut(Placement),
+) -> u64 {
+    let n = inst.n();
+    let mut order: Vec<usize> = (0..n).collect();
+    let min_area = |i: usize| {
+        let o = &inst.objects[i];
+        o.orientations
+            .iter()
+            .map(|q| q.dims(o.size).0[0] * q.dims(o.size).0[1])
+            .fold(0.0, f64::max)
+    };
+    order.sort_by(|a, b| min_area(*b).total_cmp(&min_area(*a)).then(a.cmp(b)));
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut tried = 0u64;
+    for k in 0..orders.max(1) {
+        if k > 0 {
+            if stop.should_stop() {
+                break;
+            }
+            order.shuffle(&mut rng);
+        }
+        tried += 1;
+        if let Some(p) = place_in_order(inst, &order) {
+            f(p);
+        }
+    }
+    tried
 }
 
 /// Bottom-Left for one order of objects; `None` when some object does not fit.

@@ -83,6 +83,12 @@ pub struct PlanOptions {
     pub max_nodes: u64,
     /// Bottom-Left orders.
     pub bl_orders: usize,
+    /// When the sequencer proves that the placement admits no plan, try up to this many further
+    /// Bottom-Left placements, best first, within the same sequence time limit. 0 (the default)
+    /// keeps the placement stage's result whatever happens, as comparisons between sequencers
+    /// need.
+    #[serde(default)]
+    pub placement_alternatives: usize,
 }
 
 impl PlanOptions {
@@ -102,6 +108,7 @@ impl PlanOptions {
             time_limit: s.time_limit,
             max_nodes: s.max_nodes,
             bl_orders: s.bl_orders,
+            placement_alternatives: 0,
         }
     }
 }
@@ -141,6 +148,15 @@ pub struct PlacementSummary {
     pub contact_length: f64,
     /// Solver name.
     pub solver: String,
+    /// 0 for the placement stage's own result; k when the sequencer proved that the first k
+    /// placements tried admit no plan and this is the next distinct Bottom-Left placement
+    /// ([`PlanOptions::placement_alternatives`]).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub alternative: usize,
+}
+
+fn is_zero(k: &usize) -> bool {
+    *k == 0
 }
 
 /// One object's target.
@@ -449,29 +465,93 @@ pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
 /// The stages after placement: choose actions and their order for `placement`, then assemble
 /// the plan. Callers that want the placement even when no sequence is found (the CLI draws it)
 /// run [`solve_placement`] and this themselves; [`optimize`] is the two in one.
+///
+/// With [`PlanOptions::placement_alternatives`] > 0, a placement the sequencer proves to have no
+/// plan ([`Error::Infeasible`]) is replaced by the next distinct Bottom-Left placement
+/// ([`placement::bl::alternatives`]), until one has a plan, the alternatives are used up or the
+/// sequence time limit runs out. The plan then records which alternative it used; its placement
+/// is `feasible`, with the first placement's lower bound (a bound on every placement).
 pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: PlacementResult) -> Result<PlanOutcome> {
     let limit = TimeLimit::new(opts.time_limit);
+    let first = sequence_one(inst, opts, &placement.placement, &limit);
+    let err = match first {
+        Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0)),
+        Err(e @ Error::Infeasible { .. }) if opts.placement_alternatives > 0 => e,
+        Err(e) => return Err(e),
+    };
+    let start = std::time::Instant::now();
+    let others = placement::bl::alternatives(inst, opts.seed, opts.bl_orders, &limit);
+    // The placement stage's time includes finding the alternatives, not sequencing them.
+    let alternatives_s = start.elapsed().as_secs_f64();
+    let mut tried = 0;
+    for alt in others.into_iter().filter(|p| *p != placement.placement) {
+        if tried == opts.placement_alternatives || limit.should_stop() {
+            break;
+        }
+        tried += 1;
+        match sequence_one(inst, opts, &alt, &limit) {
+            Ok(sequence) => {
+                let pr = PlacementResult {
+                    placement: alt,
+                    status: PlacementStatus::Feasible,
+                    lower_bound: placement.lower_bound,
+                    solver: "bl".into(),
+                    time_s: placement.time_s + alternatives_s,
+                    nodes: placement.nodes,
+                    subproblems: placement.subproblems,
+                };
+                return Ok(outcome(inst, opts, pr, sequence, tried));
+            }
+            Err(Error::Infeasible { .. }) => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    let Error::Infeasible { reason } = err else {
+        unreachable!("only an infeasible placement is retried")
+    };
+    Err(Error::Infeasible {
+        reason: format!("{reason}; {tried} alternative Bottom-Left placements tried, none has a plan either"),
+    })
+}
+
+/// One run of the chosen sequencer on `placement`.
+fn sequence_one(
+    inst: &Instance,
+    opts: &PlanOptions,
+    placement: &Placement,
+    limit: &TimeLimit,
+) -> Result<SequenceResult> {
     let seq_opts = SequenceOptions {
         no_direct: opts.no_direct,
         no_multi_push: opts.no_multi_push,
         max_nodes: opts.max_nodes,
     };
-    let sequence = match opts.sequencer {
-        Sequencer::Paper => sequence::paper::solve(inst, &placement.placement, &seq_opts, &limit as &dyn Terminator)?,
+    match opts.sequencer {
+        Sequencer::Paper => sequence::paper::solve(inst, placement, &seq_opts, limit as &dyn Terminator),
         Sequencer::Astar => sequence::astar::solve(
             inst,
-            &placement.placement,
+            placement,
             &seq_opts,
             &sequence::astar::AstarSettings::default(),
-            &limit as &dyn Terminator,
-        )?,
-    };
-    let plan = build_plan(inst, opts, &placement, &sequence);
-    Ok(PlanOutcome {
+            limit as &dyn Terminator,
+        ),
+    }
+}
+
+fn outcome(
+    inst: &Instance,
+    opts: &PlanOptions,
+    placement: PlacementResult,
+    sequence: SequenceResult,
+    alternative: usize,
+) -> PlanOutcome {
+    let mut plan = build_plan(inst, opts, &placement, &sequence);
+    plan.placement.alternative = alternative;
+    PlanOutcome {
         plan,
         placement,
         sequence,
-    })
+    }
 }
 
 /// Assemble the plan file from stage results.
@@ -586,6 +666,7 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             gap: pr.gap(),
             contact_length: p.contact_length(inst),
             solver: pr.solver.clone(),
+            alternative: 0,
         },
         placements,
         actions,

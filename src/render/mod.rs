@@ -40,10 +40,14 @@ pub fn render(inst: &Instance, plan: &Plan, out_dir: &Path) -> Result<Vec<PathBu
         source: e,
     })?;
     let story = Story::new(inst, &placement, &actions);
+    let solver_label = match plan.placement.alternative {
+        0 => plan.placement.solver.clone(),
+        k => format!("{}, alternative {k}", plan.placement.solver),
+    };
     let files = [
         (
             "placement.svg",
-            placement_svg(inst, &plan.placement.solver, plan.placement.status, &placement),
+            placement_svg(inst, &solver_label, plan.placement.status, &placement),
         ),
         (
             "storyboard.svg",
