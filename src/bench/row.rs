@@ -58,6 +58,10 @@ pub struct ResultRow {
     pub placement_gap: Option<f64>,
     /// Contact length (m).
     pub contact_length: Option<f64>,
+    /// Which alternative placement the plan used (`altN` planners): 0 for the placement
+    /// stage's own, k ≥ 1 when the k placements before it were proven to have no plan.
+    #[serde(default)]
+    pub placement_alternative: Option<usize>,
     /// Number of actions.
     pub seq_len: Option<usize>,
     /// Direct places.
@@ -130,6 +134,7 @@ pub const COLUMNS: &[&str] = &[
     "placement_bound",
     "placement_gap",
     "contact_length",
+    "placement_alternative",
     "seq_len",
     "n_place_direct",
     "n_place_indirect",

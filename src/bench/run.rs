@@ -39,6 +39,7 @@ pub fn base_row(path: &str, inst: &Instance, spec: &PlannerSpec, time_limit: f64
         placement_bound: None,
         placement_gap: None,
         contact_length: None,
+        placement_alternative: None,
         seq_len: None,
         n_place_direct: None,
         n_place_indirect: None,
@@ -117,6 +118,7 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
             row.placement_bound = Some(plan.placement.lower_bound);
             row.placement_gap = Some(plan.placement.gap);
             row.contact_length = Some(plan.placement.contact_length);
+            row.placement_alternative = Some(plan.placement.alternative);
             row.seq_len = Some(m.seq_len);
             row.n_place_direct = Some(m.n_place_direct);
             row.n_place_indirect = Some(m.n_place_indirect);

@@ -6,10 +6,12 @@ use std::fmt;
 
 /// One planner configuration of a benchmark: placement solver, sequencer and ablations.
 ///
-/// Grammar: `PLACEMENT+SEQUENCER[+ABLATION]...` with PLACEMENT `bl|milp`, SEQUENCER
-/// `paper|astar`, ABLATION `no-direct|no-multi-push` (each at most once, any order). The
-/// canonical name lists ablations in that fixed order, so `bl+paper+no-multi-push+no-direct`
-/// and `bl+paper+no-direct+no-multi-push` are the same planner.
+/// Grammar: `PLACEMENT+SEQUENCER[+OPTION]...` with PLACEMENT `bl|milp`, SEQUENCER
+/// `paper|astar`, OPTION an ablation `no-direct|no-multi-push` or `altN` (N ≥ 1: up to N
+/// alternative Bottom-Left placements when one is proven to have no plan,
+/// [`PlanOptions::placement_alternatives`]), each at most once, in any order. The canonical
+/// name lists them in that fixed order, so `bl+paper+no-multi-push+no-direct` and
+/// `bl+paper+no-direct+no-multi-push` are the same planner.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PlannerSpec {
     /// Placement solver.
@@ -20,6 +22,8 @@ pub struct PlannerSpec {
     pub no_direct: bool,
     /// Forbid multi-object pushes.
     pub no_multi_push: bool,
+    /// Alternative placements allowed (`altN`; 0 when absent).
+    pub placement_alternatives: usize,
 }
 
 impl PlannerSpec {
@@ -29,7 +33,7 @@ impl PlannerSpec {
         let parts: Vec<&str> = text.trim().split('+').map(str::trim).collect();
         if parts.len() < 2 {
             return Err(bad(format!(
-                "planner {text:?} must be PLACEMENT+SEQUENCER[+ABLATION...], e.g. milp+astar or bl+paper+no-direct"
+                "planner {text:?} must be PLACEMENT+SEQUENCER[+OPTION...], e.g. milp+astar, bl+paper+no-direct or bl+astar+alt5"
             )));
         }
         let placement = match parts[0] {
@@ -55,14 +59,27 @@ impl PlannerSpec {
             sequencer,
             no_direct: false,
             no_multi_push: false,
+            placement_alternatives: 0,
         };
         for a in &parts[2..] {
+            if let Some(n) = a.strip_prefix("alt") {
+                let n: usize = n
+                    .parse()
+                    .ok()
+                    .filter(|&n| n >= 1)
+                    .ok_or_else(|| bad(format!("planner {text:?}: {a:?} must be altN with an integer N >= 1")))?;
+                if spec.placement_alternatives > 0 {
+                    return Err(bad(format!("planner {text:?}: alternatives given twice")));
+                }
+                spec.placement_alternatives = n;
+                continue;
+            }
             let flag = match *a {
                 "no-direct" => &mut spec.no_direct,
                 "no-multi-push" => &mut spec.no_multi_push,
                 other => {
                     return Err(bad(format!(
-                        "planner {text:?}: ablation must be no-direct or no-multi-push, got {other:?}"
+                        "planner {text:?}: option must be no-direct, no-multi-push or altN, got {other:?}"
                     )))
                 }
             };
@@ -89,7 +106,8 @@ impl PlannerSpec {
         Ok(out)
     }
 
-    /// The same planner without ablations (the "full method" of the paper's Table II).
+    /// The same planner without ablations (the "full method" of the paper's Table II); it
+    /// keeps `altN`, which is not an ablation.
     pub fn base(&self) -> PlannerSpec {
         PlannerSpec {
             no_direct: false,
@@ -105,6 +123,7 @@ impl PlannerSpec {
         o.sequencer = self.sequencer;
         o.no_direct = self.no_direct;
         o.no_multi_push = self.no_multi_push;
+        o.placement_alternatives = self.placement_alternatives;
         o.time_limit = time_limit;
         o
     }
@@ -127,6 +146,9 @@ impl fmt::Display for PlannerSpec {
         if self.no_multi_push {
             write!(f, "+no-multi-push")?;
         }
+        if self.placement_alternatives > 0 {
+            write!(f, "+alt{}", self.placement_alternatives)?;
+        }
         Ok(())
     }
 }
@@ -145,12 +167,26 @@ mod tests {
                 "milp+astar+no-direct+no-multi-push",
             ),
             ("bl+astar+no-multi-push", "bl+astar+no-multi-push"),
+            ("bl+astar+alt5+no-direct", "bl+astar+no-direct+alt5"),
         ] {
             assert_eq!(PlannerSpec::parse(text, "--planners").unwrap().to_string(), canon);
         }
         let l = PlannerSpec::parse_list("bl+paper,milp+astar,bl+paper", "--planners").unwrap();
         assert_eq!(l.len(), 2);
         assert_eq!(l[1].base().to_string(), "milp+astar");
+        let a = PlannerSpec::parse("bl+astar+no-direct+alt3", "--planners").unwrap();
+        assert_eq!(a.base().to_string(), "bl+astar+alt3");
+        let inst = crate::instance::Instance::parse(
+            &crate::instance::generate::to_toml(
+                &crate::instance::generate::random_instance(&crate::instance::generate::GenerateParams::new(3, 1, 0))
+                    .unwrap(),
+            ),
+            false,
+            "<test>",
+            None,
+        )
+        .unwrap();
+        assert_eq!(a.options(&inst, 5.0).placement_alternatives, 3);
     }
 
     #[test]
@@ -159,7 +195,10 @@ mod tests {
             ("bl", "PLACEMENT+SEQUENCER"),
             ("lp+paper", "placement must be"),
             ("bl+dfs", "sequencer must be"),
-            ("bl+paper+fast", "ablation must be"),
+            ("bl+paper+fast", "option must be"),
+            ("bl+astar+alt0", "altN with an integer N >= 1"),
+            ("bl+astar+altx", "altN with an integer N >= 1"),
+            ("bl+astar+alt2+alt3", "alternatives given twice"),
             ("bl+paper+no-direct+no-direct", "given twice"),
             ("", "PLACEMENT+SEQUENCER"),
         ] {

@@ -142,8 +142,8 @@ enum Cmd {
         /// Instance files or directories (searched one level deep for *.toml, *.json).
         #[arg(required = true)]
         instances: Vec<PathBuf>,
-        /// Comma-separated planner specs PLACEMENT+SEQUENCER[+no-direct][+no-multi-push],
-        /// e.g. bl+paper,milp+astar,milp+astar+no-direct.
+        /// Comma-separated planner specs PLACEMENT+SEQUENCER[+no-direct][+no-multi-push][+altN],
+        /// e.g. bl+paper,milp+astar,milp+astar+no-direct,bl+astar+alt5.
         #[arg(long)]
         planners: String,
         /// Library time limit per stage in seconds (as `plan --time-limit`).
