@@ -195,8 +195,8 @@ pub enum CandidatesStop {
 }
 
 /// Most candidates Algorithm 1 keeps. They are all held in memory at once: at the cap a
-/// 16-object run peaks at 4.3 GB (about 2 kB per candidate, with its duplicate-check key),
-/// and without a cap one filled 22 GB within a minute and was killed. Up to 12 objects the
+/// 16-object run peaks at 2.7 GB (about 1.3 kB per candidate), and without a cap one filled
+/// 22 GB within a minute and was killed. Up to 12 objects the
 /// whole space fits (at most `3 · 3^12` ≈ 1.6 million candidates).
 pub const MAX_CANDIDATES: usize = 2_000_000;
 
@@ -233,7 +233,7 @@ pub fn candidates(
         })
         .collect();
     let mut out = Vec::new();
-    let mut seen = std::collections::HashSet::new();
+    let mut seen = Seen::default();
     let mut idx = vec![0usize; n];
     if options.iter().any(|o| o.is_empty()) {
         return Ok(out);
@@ -273,9 +273,9 @@ pub fn candidates(
         }
         for v in &variants {
             if let Some(c) = build(inst, placement, &direct, v) {
-                // A hash set, not `out.contains`: the linear scan made Algorithm 1 quadratic in
-                // the number of candidates (minutes at ten objects).
-                if seen.insert(c.key()) {
+                // Hashed, not `out.contains`: the linear scan made Algorithm 1 quadratic in the
+                // number of candidates (minutes at ten objects).
+                if seen.insert(&c, &out) {
                     if out.len() >= max_candidates {
                         return Err(CandidatesStop::Candidates);
                     }
@@ -295,6 +295,34 @@ pub fn candidates(
             }
             idx[k] = 0;
             k += 1;
+        }
+    }
+}
+
+/// Exact duplicate detection over the kept candidates without a copy of each key: a 64-bit hash
+/// of the key maps to the first kept candidate with that hash, whose key is recomputed to
+/// compare, and only the rare different candidates sharing a hash keep their full keys. Keeping
+/// every key instead cost about a third of Algorithm 1's memory.
+#[derive(Default)]
+struct Seen {
+    first: HashMap<u64, usize>,
+    collided: std::collections::HashSet<Vec<u64>>,
+}
+
+impl Seen {
+    /// True when `c` is new; it is then recorded as the candidate `out.len()`, the index it gets
+    /// when pushed.
+    fn insert(&mut self, c: &Candidate, out: &[Candidate]) -> bool {
+        use std::hash::{Hash, Hasher};
+        let key = c.key();
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        key.hash(&mut h);
+        match self.first.entry(h.finish()) {
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert(out.len());
+                true
+            }
+            std::collections::hash_map::Entry::Occupied(e) => out[*e.get()].key() != key && self.collided.insert(key),
         }
     }
 }
