@@ -60,7 +60,6 @@ fn run(which: &str, inst: &Instance, placement: &Placement, limit: f64) -> pushp
     }
 }
 
-/// Gap per component of a stopped A* run: (actions, area cm², travel m).
 /// A table cell listing seeds: `–` when none, else the count and the seeds.
 fn list(v: &[String]) -> String {
     if v.is_empty() {
@@ -70,6 +69,7 @@ fn list(v: &[String]) -> String {
     }
 }
 
+/// Gap per component of a stopped A* run: (actions, area cm², travel m).
 fn gap(r: &SequenceResult) -> [f64; 3] {
     let b: Cost = r.bound.expect("A* reports a bound");
     [

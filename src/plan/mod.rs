@@ -474,9 +474,9 @@ pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
 pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: PlacementResult) -> Result<PlanOutcome> {
     let limit = TimeLimit::new(opts.time_limit);
     let first = sequence_one(inst, opts, &placement.placement, &limit);
-    let err = match first {
+    let reason = match first {
         Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0)),
-        Err(e @ Error::Infeasible { .. }) if opts.placement_alternatives > 0 => e,
+        Err(Error::Infeasible { reason }) if opts.placement_alternatives > 0 => reason,
         Err(e) => return Err(e),
     };
     let start = std::time::Instant::now();
@@ -484,8 +484,12 @@ pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: Placem
     // The placement stage's time includes finding the alternatives, not sequencing them.
     let alternatives_s = start.elapsed().as_secs_f64();
     let mut tried = 0;
-    for alt in others.into_iter().filter(|p| *p != placement.placement) {
-        if tried == opts.placement_alternatives || limit.should_stop() {
+    for alt in others
+        .into_iter()
+        .filter(|p| *p != placement.placement)
+        .take(opts.placement_alternatives)
+    {
+        if limit.should_stop() {
             break;
         }
         tried += 1;
@@ -506,9 +510,6 @@ pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: Placem
             Err(e) => return Err(e),
         }
     }
-    let Error::Infeasible { reason } = err else {
-        unreachable!("only an infeasible placement is retried")
-    };
     Err(Error::Infeasible {
         reason: format!("{reason}; {tried} alternative Bottom-Left placements tried, none has a plan either"),
     })

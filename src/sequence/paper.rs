@@ -196,8 +196,8 @@ pub enum CandidatesStop {
 
 /// Most candidates Algorithm 1 keeps. They are all held in memory at once: at the cap a
 /// 16-object run peaks at 2.7 GB (about 1.3 kB per candidate), and without a cap one filled
-/// 22 GB within a minute and was killed. Up to 12 objects the
-/// whole space fits (at most `3 · 3^12` ≈ 1.6 million candidates).
+/// 22 GB within a minute and was killed. Up to 12 objects the whole space fits (at most
+/// `3 · 3^12` ≈ 1.6 million candidates).
 pub const MAX_CANDIDATES: usize = 2_000_000;
 
 /// Algorithm 1: every candidate of the assignment space (`3^N` assignments: minutes at ten
@@ -300,8 +300,8 @@ pub fn candidates(
 }
 
 /// Exact duplicate detection over the kept candidates without a copy of each key: a 64-bit hash
-/// of the key maps to the first kept candidate with that hash, whose key is recomputed to
-/// compare, and only the rare different candidates sharing a hash keep their full keys. Keeping
+/// of the key maps to the first kept candidate with that hash, compared to the new one in full,
+/// and only the rare different candidates sharing a hash keep their full keys. Keeping
 /// every key instead cost about a third of Algorithm 1's memory.
 #[derive(Default)]
 struct Seen {
@@ -322,7 +322,7 @@ impl Seen {
                 e.insert(out.len());
                 true
             }
-            std::collections::hash_map::Entry::Occupied(e) => out[*e.get()].key() != key && self.collided.insert(key),
+            std::collections::hash_map::Entry::Occupied(e) => out[*e.get()] != *c && self.collided.insert(key),
         }
     }
 }
