@@ -358,6 +358,93 @@ fn cli_validate_reports_a_missing_file_as_bad_input() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+fn cli(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_pushpack"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run pushpack")
+}
+
+/// Time limits too large for a deadline (they used to panic converting to a `Duration`), not
+/// positive, or not numbers: exit 2 with the flag named, for every command that takes one.
+#[test]
+fn cli_rejects_bad_time_limits_with_exit_code_2() {
+    let inst = "instances/examples/two_boxes.toml";
+    let out_dir = std::env::temp_dir().join("pushpack-bad-time-limit");
+    let out_dir = out_dir.display().to_string();
+    for value in ["1e20", "1e300", "inf", "NaN", "-1", "0"] {
+        let cases: [(Vec<&str>, &str); 4] = [
+            (
+                vec!["plan", inst, "--out", &out_dir, "--time-limit", value],
+                "--time-limit",
+            ),
+            (
+                vec!["place", inst, "--solver", "milp", "--time-limit", value],
+                "--time-limit",
+            ),
+            (
+                vec![
+                    "bench",
+                    inst,
+                    "--planners",
+                    "bl+paper",
+                    "--out",
+                    &out_dir,
+                    "--time-limit",
+                    value,
+                ],
+                "--time-limit",
+            ),
+            (
+                vec![
+                    "bench",
+                    inst,
+                    "--planners",
+                    "bl+paper",
+                    "--out",
+                    &out_dir,
+                    "--time-limit",
+                    "1",
+                    "--hard-limit",
+                    value,
+                ],
+                "--hard-limit",
+            ),
+        ];
+        for (args, flag) in cases {
+            let out = cli(&args);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(
+                out.status.code(),
+                Some(2),
+                "{args:?}: {:?}, stderr: {stderr}",
+                out.status
+            );
+            assert!(stderr.contains(flag), "{args:?}: stderr lacks {flag}: {stderr}");
+            assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        }
+    }
+}
+
+/// A reader that goes away (`pushpack push-check FILE | head -1`) ends the command quietly, as
+/// with any Unix filter: no panic message. The writer starts after the reader has exited.
+#[cfg(unix)]
+#[test]
+fn cli_ends_quietly_when_its_reader_goes_away() {
+    let exe = env!("CARGO_BIN_EXE_pushpack");
+    let script = "set -o pipefail; { sleep 0.3; \"$0\" push-check instances/pushes/three_box_staggered.json --json; \
+                  \"$0\" validate instances/examples/two_boxes.toml; } | true";
+    let out = Command::new("bash")
+        .args(["-c", script, exe])
+        .current_dir(root())
+        .output()
+        .expect("run bash");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "stderr: {stderr}");
+    assert!(!stderr.contains("Broken pipe"), "stderr: {stderr}");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Units.
 

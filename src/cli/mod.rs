@@ -2,7 +2,7 @@
 //! codes (0 ok, 1 plan invalid or infeasible, 2 bad input).
 
 use crate::error::Error;
-use crate::instance::Instance;
+use crate::instance::{Instance, MAX_TIME_LIMIT};
 use crate::plan::{
     optimize, sequence_placement, solve_placement, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer,
 };
@@ -229,7 +229,7 @@ impl PlanArgs {
         }
         o.no_direct |= self.no_direct;
         o.no_multi_push |= self.no_multi_push;
-        if let Some(t) = positive_time(self.time_limit)? {
+        if let Some(t) = positive_time(self.time_limit, "--time-limit")? {
             o.time_limit = t;
         }
         match self.placement.as_deref() {
@@ -253,12 +253,19 @@ impl PlanArgs {
     }
 }
 
-fn positive_time(t: Option<f64>) -> Result<Option<f64>, Error> {
+/// A time limit from the command line: positive, finite and no larger than instance files allow
+/// ([`MAX_TIME_LIMIT`]), since larger values cannot become a deadline.
+fn positive_time(t: Option<f64>, flag: &str) -> Result<Option<f64>, Error> {
     match t {
         Some(t) if !(t.is_finite() && t > 0.0) => Err(Error::input(
             "<command line>",
-            "--time-limit",
-            format!("must be a positive number, got {t}"),
+            flag,
+            format!("must be a positive number of seconds, got {t}"),
+        )),
+        Some(t) if t > MAX_TIME_LIMIT => Err(Error::input(
+            "<command line>",
+            flag,
+            format!("{t:e} s is larger than the largest accepted limit, {MAX_TIME_LIMIT:e} s"),
         )),
         other => Ok(other),
     }
@@ -316,7 +323,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             } else {
                 PlacementSolver::Bl
             };
-            let t = positive_time(time_limit)?.unwrap_or(inst.settings.time_limit);
+            let t = positive_time(time_limit, "--time-limit")?.unwrap_or(inst.settings.time_limit);
             let r = solve_placement(
                 &inst,
                 solver,
@@ -495,15 +502,8 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             resume,
             max_runs,
         } => {
-            let time_limit = positive_time(Some(time_limit))?.expect("given");
-            let hard_limit = match hard_limit {
-                Some(h) if !(h.is_finite() && h > 0.0) => {
-                    return Err(Error::input(
-                        "<command line>",
-                        "--hard-limit",
-                        format!("must be positive, got {h}"),
-                    ))
-                }
+            let time_limit = positive_time(Some(time_limit), "--time-limit")?.unwrap_or(time_limit);
+            let hard_limit = match positive_time(hard_limit, "--hard-limit")? {
                 Some(h) => h,
                 None => 2.0 * time_limit + 30.0,
             };
@@ -546,7 +546,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             time_limit,
         } => {
             let spec = crate::bench::spec::PlannerSpec::parse(&planner, "--planner")?;
-            let time_limit = positive_time(Some(time_limit))?.expect("given");
+            let time_limit = positive_time(Some(time_limit), "--time-limit")?.unwrap_or(time_limit);
             let inst = Instance::load(&instance)?;
             let row = crate::bench::run::run_in_process(&instance.display().to_string(), &inst, &spec, time_limit);
             println!("{}", row.to_json_line());
