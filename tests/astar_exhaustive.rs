@@ -288,16 +288,16 @@ impl Enumerate<'_> {
             return *v;
         }
         let mut result: Option<Best> = None;
-        for a in acts.iter().cloned() {
+        for a in acts.iter() {
             let mut next = layout.clone();
             let mut e = ext;
-            if let Action::Place { object, mode, .. } = &a {
+            if let Action::Place { object, mode, .. } = a {
                 let r = layout.release_rect(*object, mode);
                 e = [e[0].max(r.x1), e[1].max(r.y1)];
             }
-            next.apply(&a);
+            next.apply(a);
             let k = a.arm().index();
-            let (len, end) = path_length(&pos[k], &action_keypoints(self.inst, self.placement, &a));
+            let (len, end) = path_length(&pos[k], &action_keypoints(self.inst, self.placement, a));
             let mut p = pos;
             p[k] = end;
             let mut u = used;
@@ -417,18 +417,44 @@ fn check_stopped(
     }
 }
 
+/// Objects of the random instance of `seed` (3..=7).
+fn objects_of(seed: u64) -> usize {
+    3 + (seed as usize % 5)
+}
+
+/// The README's test command checks the 60 seeds of 3–5 objects; the 40 seeds of 6 and 7
+/// objects take most of the time (the enumeration grows exponentially), so they form the
+/// exhaustive tier that `.ci/run` runs after it with `--ignored`. Together: all 100 seeds.
 #[test]
-fn astar_matches_exhaustive_enumeration() {
+fn astar_matches_exhaustive_enumeration_up_to_five_objects() {
+    let checked = check_seeds(|n| n <= 5);
+    if checked.is_some_and(|c| c < 54) {
+        panic!("only {checked:?} of 60 instances had plans");
+    }
+}
+
+#[test]
+#[ignore = "exhaustive tier (6 and 7 objects, several minutes): .ci/run runs it with --ignored"]
+fn astar_matches_exhaustive_enumeration_on_six_and_seven_objects() {
+    let checked = check_seeds(|n| n > 5);
+    if checked.is_some_and(|c| c < 36) {
+        panic!("only {checked:?} of 40 instances had plans");
+    }
+}
+
+/// Cross-checks A* against enumeration on the seeds whose object count passes `sizes`; returns
+/// how many had plans (`None` when `SEEDS` restricts the run, so no count is expected).
+fn check_seeds(sizes: impl Fn(usize) -> bool) -> Option<usize> {
     let mut checked = 0;
     // SEEDS=3,8 reruns single seeds while debugging.
     let only: Option<Vec<u64>> = std::env::var("SEEDS")
         .ok()
         .map(|v| v.split(',').map(|x| x.parse().unwrap()).collect());
     for seed in 0..100u64 {
-        if only.as_ref().is_some_and(|o| !o.contains(&seed)) {
+        if only.as_ref().is_some_and(|o| !o.contains(&seed)) || !sizes(objects_of(seed)) {
             continue;
         }
-        let n = 3 + (seed as usize % 5); // 3..=7 objects
+        let n = objects_of(seed);
         let kinds = 1 + (seed as usize % 3);
         let inst = common::parse(&common::random_instance_text_step(
             500 + seed,
@@ -496,7 +522,6 @@ fn astar_matches_exhaustive_enumeration() {
             (e, g) => panic!("seed {seed}: exhaustive {e:?} vs A* {:?}", g.map(|r| r.metrics)),
         }
     }
-    if only.is_none() {
-        assert!(checked >= 90, "only {checked} instances had plans");
-    }
+    eprintln!("{checked} instances had plans");
+    only.is_none().then_some(checked)
 }

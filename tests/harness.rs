@@ -152,7 +152,7 @@ fn interrupted_batch_resumes_without_repeating_or_losing_rows_and_shards_merge()
     let s0 = read_jsonl(&sharded.join("results.shard-0-of-2.jsonl")).unwrap().0;
     let s1 = read_jsonl(&sharded.join("results.shard-1-of-2.jsonl")).unwrap().0;
     assert_eq!((s0.len(), s1.len()), (3, 3));
-    let merged = load_rows(&[sharded.clone()]).unwrap();
+    let merged = load_rows(std::slice::from_ref(&sharded)).unwrap();
     assert_eq!(merged.duplicates, 0);
     assert_eq!(without_timing(&merged.rows), without_timing(&reference));
 

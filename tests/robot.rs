@@ -358,9 +358,9 @@ fn time_parameterisation_respects_velocity_and_acceleration_limits() {
         // path are straight in joint space; only the corner at `mid` changes direction).
         for w in pts.windows(2) {
             let dt = w[1].t - w[0].t;
-            for j in 0..6 {
+            for (j, m) in mid.iter().enumerate() {
                 let acc = (w[1].velocities[j] - w[0].velocities[j]).abs() / dt;
-                let corner = (w[0].positions[j] - mid[j]).abs() < 0.02 || (w[1].positions[j] - mid[j]).abs() < 0.02;
+                let corner = (w[0].positions[j] - m).abs() < 0.02 || (w[1].positions[j] - m).abs() < 0.02;
                 if !corner {
                     assert!(
                         acc <= opts.acceleration * scale * scale * (1.0 + 1e-6) + 1e-9,

@@ -39,7 +39,9 @@ fn planned_with(
 ) -> (Instance, PlanOutcome) {
     type Cell = Arc<OnceLock<(Instance, PlanOutcome)>>;
     // Keyed by the Debug text of the sequencer (`Sequencer` is not `Hash`).
-    static CACHE: OnceLock<Mutex<HashMap<(&'static str, bool, bool, String), Cell>>> = OnceLock::new();
+    /// (instance, no-direct, no-multi-push, sequencer) → the plan made once.
+    type Key = (&'static str, bool, bool, String);
+    static CACHE: OnceLock<Mutex<HashMap<Key, Cell>>> = OnceLock::new();
     let cell = CACHE
         .get_or_init(|| Mutex::new(HashMap::new()))
         .lock()

@@ -402,7 +402,7 @@ mod tests {
         let rec = r.to_csv_record();
         assert!(rec.starts_with("\"a,b\","));
         assert!(rec.contains("\"boom, \"\"quoted\"\"\""));
-        assert_eq!(rec.split(',').count() >= COLUMNS.len(), true);
+        assert!(rec.split(',').count() >= COLUMNS.len());
 
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("r.jsonl");

@@ -441,7 +441,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             let p = Plan::load(&plan)?;
             let fmt: crate::robot::export::ExportFormat = format
                 .parse()
-                .map_err(|e| Error::input("<command line>", "--format", format!("{e}")))?;
+                .map_err(|e: String| Error::input("<command line>", "--format", e))?;
             std::fs::create_dir_all(&out).map_err(|e| Error::Io {
                 path: out.clone(),
                 source: e,

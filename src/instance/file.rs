@@ -1,6 +1,6 @@
 //! Serde-only external types of the instance file (TOML or JSON, one schema).
 //!
-//! These types mirror the file one to one and carry no invariants; [`super::load`] converts them
+//! These types mirror the file one to one and carry no invariants; [`super::Instance::load`] converts them
 //! into a validated [`super::Instance`]. Every field, its unit and default is in `docs/formats.md`.
 
 use serde::{Deserialize, Serialize};

@@ -1,6 +1,6 @@
 //! Stage 0: the validated, immutable problem instance, and its loader from TOML/JSON files.
 //!
-//! [`file`] holds the serde-only mirror of the file; [`Instance::load`] parses, converts units
+//! [`file`](mod@file) holds the serde-only mirror of the file; [`Instance::load`] parses, converts units
 //! and validates it, failing with an [`Error::Input`] that names the file, the field and the
 //! reason. After loading, every invariant the later stages rely on holds (positive finite sizes,
 //! at least one orientation that fits, no overlap on the table, reachable start poses, …).
@@ -709,15 +709,15 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
             return Err(c.err(fld("name"), format!("duplicate kind name {:?}", k.name)));
         }
         let mut size = [0.0; 3];
-        for j in 0..3 {
+        for (j, s) in size.iter_mut().enumerate() {
             let field = fld(&format!("size[{j}]"));
-            size[j] = l(c.positive(&field, k.size[j])?);
-            if size[j] < MIN_EDGE {
+            *s = l(c.positive(&field, k.size[j])?);
+            if *s < MIN_EDGE {
                 return Err(c.err(
                     field,
                     format!(
                         "must be at least {MIN_EDGE} m (100 x the geometric tolerance), got {:e} m",
-                        size[j]
+                        *s
                     ),
                 ));
             }

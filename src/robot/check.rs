@@ -173,6 +173,8 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         }
         for i in 1..qs.len() {
             let dt = tr.points[i].t - tr.points[i - 1].t;
+            // Written so that a NaN time fails too.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
             if !(dt > 0.0) {
                 issue(format!(
                     "point {i}: time does not increase ({:.6} s after {:.6} s)",
@@ -181,8 +183,8 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
                 ));
                 continue;
             }
-            for j in 0..6 {
-                let d = (qs[i][j] - qs[i - 1][j]).abs();
+            for (j, (a, b)) in qs[i].iter().zip(&qs[i - 1]).enumerate() {
+                let d = (a - b).abs();
                 let v = model.arms[arm.index()][j].velocity;
                 if d > MAX_JOINT_STEP {
                     issue(format!(

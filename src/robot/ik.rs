@@ -197,12 +197,12 @@ impl<'a> IkSolver<'a> {
 
     fn clamp(&self, q: &mut [f64; 6]) -> Option<usize> {
         let mut pinned = None;
-        for k in 0..6 {
-            if q[k] <= self.lower[k] {
-                q[k] = self.lower[k];
+        for (k, qk) in q.iter_mut().enumerate() {
+            if *qk <= self.lower[k] {
+                *qk = self.lower[k];
                 pinned = Some(k);
-            } else if q[k] >= self.upper[k] {
-                q[k] = self.upper[k];
+            } else if *qk >= self.upper[k] {
+                *qk = self.upper[k];
                 pinned = Some(k);
             }
         }

@@ -12,7 +12,7 @@
 //! * [`motion`] — key poses of an action, joint plans, arm selection, reachability;
 //! * [`trajectory`] — time parameterisation and the `plan.json` trajectory records;
 //! * [`check`] — the independent checks the verifier runs on recorded trajectories;
-//! * [`export`] — ROS `trajectory_msgs/JointTrajectory` YAML/JSON and CSV.
+//! * [`export`](mod@export) — ROS `trajectory_msgs/JointTrajectory` YAML/JSON and CSV.
 
 pub mod check;
 pub mod collision;
@@ -248,6 +248,8 @@ impl RobotModel {
                 if a.norm() < 1e-9 {
                     return Err(format!("joint {name} has a zero axis"));
                 }
+                // Written so that NaN limits fail too.
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
                 if !(j.limit.lower < j.limit.upper) {
                     return Err(format!(
                         "joint {name}: lower limit {} not below upper {}",

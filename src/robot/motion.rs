@@ -32,6 +32,8 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, PI};
 
+/// Joint-space legs of a move: each a polyline of configurations of one arm.
+type Legs = Vec<Vec<[f64; 6]>>;
 /// Planning tolerance of straight lines: largest TCP distance from the line between two samples (m).
 pub const LINE_TOLERANCE: f64 = 5e-5;
 /// The spec's bound on the deviation of a straight-line push (m), checked by the verifier.
@@ -413,7 +415,7 @@ impl Ctx<'_> {
 #[derive(Debug, Clone)]
 struct Motion {
     /// Legs (each from rest to rest) per segment; segment k ends at key pose k.
-    segments: Vec<Vec<Vec<[f64; 6]>>>,
+    segments: Vec<Legs>,
     key_q: Vec<[f64; 6]>,
     specs: Vec<Spec>,
     cost: f64,
@@ -603,7 +605,7 @@ fn joint_move(
     target: &Isometry3<f64>,
     what: &str,
     min_clear: &mut f64,
-) -> Result<Vec<Vec<[f64; 6]>>, RobotError> {
+) -> Result<Legs, RobotError> {
     let check = |p: &[[f64; 6]], mc: &mut f64| check_samples(ctx, solver, action, seg, hand, &densify(p), what, mc);
     let from = solver.fk(q);
     // The predicate only needs some branch at the target (the joint move is not checked); the
@@ -681,7 +683,7 @@ fn plan_variant(
         };
         let what = format!("{name}, move to {}", sp.label);
         let from = solver.fk(&q);
-        let legs: Vec<Vec<[f64; 6]>> = match sp.mv {
+        let legs: Legs = match sp.mv {
             Move::Line => {
                 let tol = if ctx.fast_ik {
                     PREDICATE_LINE_TOLERANCE
@@ -1015,7 +1017,7 @@ fn home_move(
     from: &[f64; 6],
     hand: Hand,
     other: Vec<Obstacle>,
-) -> Result<(Vec<Vec<[f64; 6]>>, f64), RobotError> {
+) -> Result<(Legs, f64), RobotError> {
     let ctx = Ctx {
         inst,
         placement,
@@ -1207,40 +1209,38 @@ pub fn plan_trajectories(
             )
         };
         // The idle arm in the way: park it at home first.
-        if result.is_err() {
-            if q_cur[other.index()] != inst.robot.home[other.index()] {
-                let park = home_move(
-                    inst,
-                    placement,
-                    &at,
+        if result.is_err() && q_cur[other.index()] != inst.robot.home[other.index()] {
+            let park = home_move(
+                inst,
+                placement,
+                &at,
+                other,
+                &q_cur[other.index()],
+                hand_cur[other.index()],
+                idle_obstacles(arm, &q_cur[arm.index()], &hand_cur[arm.index()]),
+            );
+            if let Ok((legs, clear)) = park {
+                let (pts, t1) = time_legs(&legs, &vmax(inst, other), opts, t);
+                out.push(simple_record(
+                    format!("park {}", other.name()),
                     other,
-                    &q_cur[other.index()],
-                    hand_cur[other.index()],
-                    idle_obstacles(arm, &q_cur[arm.index()], &hand_cur[arm.index()]),
+                    pts,
+                    t,
+                    t1,
+                    clear,
+                ));
+                t = t1;
+                q_cur[other.index()] = inst.robot.home[other.index()];
+                ctx.other = idle_obstacles(other, &q_cur[other.index()], &hand_cur[other.index()]);
+                notes.clear();
+                result = plan_action(
+                    &ctx,
+                    solver,
+                    action,
+                    &q_cur[arm.index()],
+                    hand_cur[arm.index()],
+                    &mut notes,
                 );
-                if let Ok((legs, clear)) = park {
-                    let (pts, t1) = time_legs(&legs, &vmax(inst, other), opts, t);
-                    out.push(simple_record(
-                        format!("park {}", other.name()),
-                        other,
-                        pts,
-                        t,
-                        t1,
-                        clear,
-                    ));
-                    t = t1;
-                    q_cur[other.index()] = inst.robot.home[other.index()];
-                    ctx.other = idle_obstacles(other, &q_cur[other.index()], &hand_cur[other.index()]);
-                    notes.clear();
-                    result = plan_action(
-                        &ctx,
-                        solver,
-                        action,
-                        &q_cur[arm.index()],
-                        hand_cur[arm.index()],
-                        &mut notes,
-                    );
-                }
             }
         }
         match result {

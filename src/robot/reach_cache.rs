@@ -15,12 +15,14 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
+/// Action hash → the actions with that hash and their answers.
+type ReachMemo = HashMap<u64, Vec<(Action, Option<Reach>)>, BuildHasherDefault<IdentityHasher>>;
 /// Memoised "some arm can execute this action" for one instance and placement.
 pub struct ReachCache<'a> {
     inst: &'a Instance,
     placement: &'a Placement,
     /// Action hash → the actions with that hash and their answers (almost always one).
-    memo: RefCell<HashMap<u64, Vec<(Action, Option<Reach>)>, BuildHasherDefault<IdentityHasher>>>,
+    memo: RefCell<ReachMemo>,
     /// IK results shared between actions (see [`IkMemo`]).
     ik: RefCell<IkMemo>,
 }

@@ -210,7 +210,7 @@ struct Search<'a> {
     /// Per object, once asked: per place action the empty container allows and the robot
     /// reaches, the sets of other objects that, still on the table, block its pick (one per
     /// hand variant found, minimal sets only; `[0]` when a variant is free).
-    pick_blockers: RefCell<Vec<Option<Rc<Vec<(PlaceKey, Vec<u64>)>>>>>,
+    pick_blockers: RefCell<Vec<Option<PickBlockers>>>,
     /// Per line of `push_lines`: the offset steps of its back member (bit `m`) asked so far,
     /// and those at which the robot reaches its push with some arm.
     line_reach: RefCell<Vec<(u64, u64)>>,
@@ -225,17 +225,17 @@ struct Search<'a> {
     /// Reachability of actions by the robot (inverse kinematics), memoised.
     reach: crate::robot::reach_cache::ReachCache<'a>,
     /// Feasible actions per object state.
-    succ_cache: RefCell<FxMap<Vec<u8>, Rc<Vec<(Action, Option<f64>)>>>>,
+    succ_cache: RefCell<FxMap<Vec<u8>, Successors>>,
     /// Remaining-actions memo per object state: (proven lower bound, length of a plan found).
-    len_memo: RefCell<FxMap<Vec<u8>, (usize, usize)>>,
+    len_memo: RefCell<LenMemo>,
     /// The proven minimum number of actions, once known.
     lstar: Cell<Option<usize>>,
     /// Phase 2's box: while set, every release must lie within `[0, x] × [0, y]` of C.
     area_box: Cell<Option<[f64; 2]>>,
     /// Successors allowed by `area_box` (cleared when it changes).
-    box_succ: RefCell<FxMap<Vec<u8>, Rc<Vec<(Action, Option<f64>)>>>>,
+    box_succ: RefCell<FxMap<Vec<u8>, Successors>>,
     /// Phase 1's memo, kept aside while a box is set (the facts differ under a box).
-    base_memo: RefCell<Option<FxMap<Vec<u8>, (usize, usize)>>>,
+    base_memo: RefCell<Option<LenMemo>>,
     /// Proven lower bound on the swept area of every plan of `lstar` actions (0 until phase 2).
     area_floor: Cell<f64>,
     /// Time limit watched by phase 1, and whether it (or the slice deadline) struck.
@@ -308,6 +308,14 @@ fn mix64(mut z: u64) -> u64 {
 }
 
 type FxMap<K, V> = HashMap<K, V, std::hash::BuildHasherDefault<FxHasher>>;
+/// An action with its push margin (`None` for places).
+type Scored = (Action, Option<f64>);
+/// The feasible actions of one state, shared between the caches that hold them.
+type Successors = Rc<Vec<Scored>>;
+/// Per object state: (proven lower bound on the remaining actions, length of a plan found).
+type LenMemo = FxMap<Vec<u8>, (usize, usize)>;
+/// Per place action, the minimal sets of objects whose presence on the table blocks its pick.
+type PickBlockers = Rc<Vec<(PlaceKey, Vec<u64>)>>;
 
 /// Compact key of the object states: one byte per object (table 0, done 1, released
 /// `2 + direction + 2·m` for offset `m·d`). Offsets only ever come from the search's own place
@@ -331,7 +339,7 @@ fn obj_key(state: &[ObjState], d: f64) -> Vec<u8> {
 pub const MAX_OFFSET_STEPS: usize = 100;
 
 /// A plan and its cost.
-type Incumbent = (Cost, Vec<(Action, Option<f64>)>);
+type Incumbent = (Cost, Vec<Scored>);
 
 /// Outcome of a time-boxed phase-1 question.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -921,7 +929,7 @@ impl<'a> Search<'a> {
     /// re-planning ever longer tails of it (the last action, the last two, …, the whole plan),
     /// so that the small questions near the end, which the memo then answers at once, come
     /// first. `Fit::No` proves that no plan is shorter than `inc`.
-    fn shorten(&self, root: &Node, inc: &[(Action, Option<f64>)], calls: u64) -> (Fit, Option<Incumbent>) {
+    fn shorten(&self, root: &Node, inc: &[Scored], calls: u64) -> (Fit, Option<Incumbent>) {
         let until = self.calls.get() + calls;
         let mut nodes = vec![root.clone()];
         for (a, _) in inc {
@@ -1134,7 +1142,7 @@ impl<'a> Search<'a> {
             else {
                 continue;
             };
-            if !self.line_releasable(li, l, state, done, &released) {
+            if !self.line_releasable(li, l, state, done, released) {
                 continue;
             }
             usable.push((l.members, stuck));
@@ -1335,7 +1343,7 @@ impl<'a> Search<'a> {
 
     /// Actions the layout allows in a state, reachable or not (cached: they depend on object
     /// states only).
-    fn successors(&self, state: &[ObjState]) -> Rc<Vec<(Action, Option<f64>)>> {
+    fn successors(&self, state: &[ObjState]) -> Successors {
         let k = obj_key(state, self.inst.gripper.min_offset);
         let boxed = self.area_box.get().is_some();
         if boxed {
@@ -1352,7 +1360,7 @@ impl<'a> Search<'a> {
         if !boxed {
             return v;
         }
-        let kept: Rc<Vec<(Action, Option<f64>)>> = Rc::new(
+        let kept: Successors = Rc::new(
             v.iter()
                 .filter(|(a, _)| match a {
                     Action::Place {
@@ -1398,15 +1406,12 @@ impl<'a> Search<'a> {
     }
 
     /// Feasible actions in a state, with the push margin of each.
-    fn successors_uncached(&self, state: &[ObjState]) -> Vec<(Action, Option<f64>)> {
+    fn successors_uncached(&self, state: &[ObjState]) -> Vec<Scored> {
         let inst = self.inst;
         let layout = self.layout(state);
         let d = inst.gripper.min_offset;
         let mut out = Vec::new();
-        for i in 0..inst.n() {
-            if state[i] != ObjState::Table {
-                continue;
-            }
+        for (i, _) in state.iter().enumerate().filter(|(_, st)| **st == ObjState::Table) {
             let arm = pick_arm(inst, i);
             for mode in place_modes(self.opts.no_direct, self.steps[i], d) {
                 let axes = match mode {
@@ -2435,7 +2440,7 @@ pub fn lines(placement: &Placement, members: &[usize], dir: PushDir, max_len: us
 }
 
 /// The actions from the root to `node` (every node but the root has one incoming edge).
-fn path_to(graph: &DiGraph<Node, (Action, Option<f64>)>, node: NodeIndex) -> Vec<(Action, Option<f64>)> {
+fn path_to(graph: &DiGraph<Node, Scored>, node: NodeIndex) -> Vec<Scored> {
     let mut path = Vec::new();
     let mut cur = node;
     while let Some(e) = graph.edges_directed(cur, Direction::Incoming).next() {
@@ -2579,7 +2584,7 @@ pub fn solve(
     }
     let root_bound = root.f;
 
-    let mut graph: DiGraph<Node, (Action, Option<f64>)> = DiGraph::new();
+    let mut graph: DiGraph<Node, Scored> = DiGraph::new();
     let r = graph.add_node(root.clone());
     let mut open = BinaryHeap::new();
     let mut seq = 0u64;
@@ -2793,10 +2798,10 @@ pub fn solve(
             },
         });
     };
-    let bound = if goal.is_some() {
+    // With a goal, or a complete search (the incumbent was proven optimal: nothing open could
+    // beat it), the bound is the cost itself.
+    let bound = if goal.is_some() || status == SearchStatus::Complete {
         cost
-    } else if status == SearchStatus::Complete {
-        cost // the incumbent was proven optimal: nothing open could beat it
     } else {
         // A bound per component on the lexicographic optimum: it is the incumbent, or better
         // than it and then below some open node (nodes cut by the incumbent or by L* cannot
