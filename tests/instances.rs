@@ -374,26 +374,13 @@ fn cli_rejects_bad_time_limits_with_exit_code_2() {
     let out_dir = std::env::temp_dir().join("pushpack-bad-time-limit");
     let out_dir = out_dir.display().to_string();
     for value in ["1e20", "1e300", "inf", "NaN", "-1", "0"] {
+        // `--flag=value`, so that clap takes "-1" as the value, not as another flag.
+        let (tl, hl) = (format!("--time-limit={value}"), format!("--hard-limit={value}"));
         let cases: [(Vec<&str>, &str); 4] = [
+            (vec!["plan", inst, "--out", &out_dir, &tl], "--time-limit"),
+            (vec!["place", inst, "--solver", "milp", &tl], "--time-limit"),
             (
-                vec!["plan", inst, "--out", &out_dir, "--time-limit", value],
-                "--time-limit",
-            ),
-            (
-                vec!["place", inst, "--solver", "milp", "--time-limit", value],
-                "--time-limit",
-            ),
-            (
-                vec![
-                    "bench",
-                    inst,
-                    "--planners",
-                    "bl+paper",
-                    "--out",
-                    &out_dir,
-                    "--time-limit",
-                    value,
-                ],
+                vec!["bench", inst, "--planners", "bl+paper", "--out", &out_dir, &tl],
                 "--time-limit",
             ),
             (
@@ -406,8 +393,7 @@ fn cli_rejects_bad_time_limits_with_exit_code_2() {
                     &out_dir,
                     "--time-limit",
                     "1",
-                    "--hard-limit",
-                    value,
+                    &hl,
                 ],
                 "--hard-limit",
             ),

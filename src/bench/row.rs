@@ -205,9 +205,14 @@ impl ResultRow {
         self.status == RunStatus::Ok && self.verify.as_deref() == Some("valid")
     }
 
-    /// True when both stages proved their result optimal (placement `optimal`, search `complete`).
+    /// True when both stages proved their result optimal: placement `optimal`, and an A* search
+    /// that ran to `complete`. The paper's sequencer also ends `complete` when it has searched
+    /// its candidate space, but that space is a heuristic's, so its plans are never proven.
     pub fn proven(&self) -> bool {
+        let proving_sequencer = super::spec::PlannerSpec::parse(&self.planner, "planner")
+            .is_ok_and(|s| s.sequencer == crate::plan::Sequencer::Astar);
         self.solved()
+            && proving_sequencer
             && self.placement_status.as_deref() == Some("optimal")
             && self.sequence_status.as_deref() == Some("complete")
     }
@@ -382,6 +387,29 @@ mod tests {
         let mut r = crate::bench::run::base_row(instance, &inst, &spec, 10.0);
         r.error = Some("boom, \"quoted\"".into());
         r
+    }
+
+    /// A solved row whose stages both report their best status.
+    fn solved_and_complete(planner: &str) -> ResultRow {
+        let mut r = sample("a", planner);
+        r.error = None;
+        r.status = RunStatus::Ok;
+        r.verify = Some("valid".into());
+        r.placement_status = Some("optimal".into());
+        r.sequence_status = Some("complete".into());
+        r
+    }
+
+    #[test]
+    fn only_a_complete_astar_search_on_an_optimal_placement_is_proven() {
+        assert!(solved_and_complete("milp+astar").proven());
+        assert!(solved_and_complete("milp+astar+no-direct").proven());
+        // The paper's sequencer searched its whole candidate space: still a heuristic.
+        assert!(!solved_and_complete("milp+paper").proven());
+        assert!(!solved_and_complete("bl+paper").proven());
+        let mut r = solved_and_complete("milp+astar");
+        r.placement_status = Some("feasible".into());
+        assert!(!r.proven());
     }
 
     #[test]
