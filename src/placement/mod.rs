@@ -5,7 +5,9 @@
 //! [`Placement::contact_length`]. Solvers: [`bl`] (the paper's extended Bottom-Left).
 
 pub mod bl;
+pub mod area;
 pub mod milp;
+pub mod opp;
 
 use crate::geometry::{Axis2, Orientation, Rect, EPS};
 use crate::instance::Instance;
