@@ -85,9 +85,11 @@ fn items(fps: &[Footprints]) -> (Vec<Item>, Vec<usize>) {
     order.sort_by(|&a, &b| big(b).total_cmp(&big(a)).then(a.cmp(&b)));
     let same = |a: usize, b: usize| {
         fps[a].len() == fps[b].len()
-            && fps[a]
-                .iter()
-                .all(|(f, _, _)| fps[b].iter().any(|(g, _, _)| (f[0] - g[0]).abs() <= EPS && (f[1] - g[1]).abs() <= EPS))
+            && fps[a].iter().all(|(f, _, _)| {
+                fps[b]
+                    .iter()
+                    .any(|(g, _, _)| (f[0] - g[0]).abs() <= EPS && (f[1] - g[1]).abs() <= EPS)
+            })
     };
     let mut class: Vec<usize> = Vec::new();
     for (k, &i) in order.iter().enumerate() {
@@ -160,7 +162,10 @@ impl PartialOrd for BoxKey {
 }
 impl Ord for BoxKey {
     fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.area.total_cmp(&o.area).then(self.w.total_cmp(&o.w)).then(self.di.cmp(&o.di))
+        self.area
+            .total_cmp(&o.area)
+            .then(self.w.total_cmp(&o.w))
+            .then(self.di.cmp(&o.di))
     }
 }
 
@@ -183,8 +188,10 @@ pub fn solve(
     let depths: Vec<f64> = subset_sums(&yv, cd).into_iter().filter(|&v| v > EPS).collect();
     let area_tol = 1e-9 * (1.0 + cw * cd);
     let transposable = fps.iter().all(|o| {
-        o.iter()
-            .all(|(f, _, _)| o.iter().any(|(g, _, _)| (g[0] - f[1]).abs() <= EPS && (g[1] - f[0]).abs() <= EPS))
+        o.iter().all(|(f, _, _)| {
+            o.iter()
+                .any(|(g, _, _)| (g[0] - f[1]).abs() <= EPS && (g[1] - f[0]).abs() <= EPS)
+        })
     });
     let mut out = AreaStage {
         lower_bound: 0.0,
@@ -196,7 +203,11 @@ pub fn solve(
     let elapsed = || start.elapsed().as_secs_f64();
     let trace = |out: &mut AreaStage, lb: f64, best: &Option<Placement>| {
         let inc = best.as_ref().map(|p| p.occupied_area());
-        if out.trace.last().is_none_or(|b| b.lower_bound < lb - area_tol || b.incumbent != inc) {
+        if out
+            .trace
+            .last()
+            .is_none_or(|b| b.lower_bound < lb - area_tol || b.incumbent != inc)
+        {
             out.trace.push(BoundPoint {
                 t_s: elapsed(),
                 lower_bound: lb,
@@ -338,4 +349,40 @@ pub fn solve(
     trace(&mut out, final_lb, &best);
     out.best = best;
     out
+}
+
+/// Second stage by enumeration: the most contact length among the BL-stable packings inside
+/// `w × d` (the search meets every one of them, see [`opp`]). Returns the best placement, whether
+/// the enumeration finished (then it is proven best), and the nodes visited.
+pub fn max_contact(
+    inst: &Instance,
+    fps: &[Footprints],
+    (w, d): (f64, f64),
+    stop: &dyn Fn() -> bool,
+) -> (Option<Placement>, bool, u64) {
+    let (items, order) = items(fps);
+    let mut best: Option<(f64, Placement)> = None;
+    let mut visit = |pos: &[opp::Pos]| {
+        let mut targets = vec![None; fps.len()];
+        for (k, p) in pos.iter().enumerate() {
+            let i = order[k];
+            let (f, q, h) = fps[i][p.opt];
+            targets[i] = Some(Target {
+                orientation: q,
+                rect: Rect::new(p.x, p.y, f[0], f[1]),
+                height: h,
+            });
+        }
+        let targets: Vec<Target> = targets.into_iter().map(|t| t.expect("every item placed")).collect();
+        if super::is_bl_stable(&targets) {
+            let p = Placement { targets };
+            let c = p.contact_length(inst);
+            if best.as_ref().is_none_or(|(b, _)| c > *b + 1e-9) {
+                best = Some((c, p));
+            }
+        }
+        false
+    };
+    let (complete, nodes) = Search::enumerate(&items, w, d, stop, &mut visit);
+    (best.map(|(_, p)| p), complete, nodes)
 }

@@ -479,7 +479,6 @@ fn grid_max_nnz() -> usize {
         .unwrap_or(GRID_MAX_NNZ)
 }
 
-
 /// Outcome of one HiGHS run.
 struct Solved {
     status: HighsModelStatus,
@@ -549,11 +548,7 @@ fn run_highs(
         None
     };
     let nodes = mip_node_count(&solved);
-    Ok(Solved {
-        status,
-        cols,
-        nodes,
-    })
+    Ok(Solved { status, cols, nodes })
 }
 
 /// HiGHS's branch-and-bound node count (an int64 info value the `highs` crate does not read).
@@ -800,10 +795,33 @@ pub fn solve_report(
                 let f = p.extent();
                 (f.0 - e.0).abs() <= 1e-9 && (f.1 - e.1).abs() <= 1e-9
             });
+            // Enumeration first: in a box of the optimal area packings are few. It gets the
+            // area stage's time (at least a second); the MILP gets what remains of it.
+            let deadline = area_stage_s.max(1.0);
+            let contact_left = || (deadline - (start.elapsed().as_secs_f64() - area_stage_s)).min(left(settings));
+            let halt_contact = || stop.should_stop() || contact_left() <= 0.0;
+            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, &halt_contact);
+            nodes += n_enum;
+            if let Some(p) = &enum_best {
+                let c = p.contact_length(inst);
+                if c > best_contact + 1e-9 && p.occupied_area() <= best_area + 1e-12 {
+                    best = p.clone();
+                    best_contact = c;
+                }
+            }
+            if complete {
+                done.push((e, true));
+                continue;
+            }
+            if contact_left() <= 0.0 {
+                all_optimal = false;
+                continue;
+            }
+            let warm_p = enum_best.as_ref().or(warm_p);
             let res = if GridModel::size(inst, &fps, e.0, e.1) <= grid_max_nnz() {
-                grid_contact_stage(inst, &fps, e, warm_p, left(settings), settings.seed)?
+                grid_contact_stage(inst, &fps, e, warm_p, contact_left(), settings.seed)?
             } else if let Some(wp) = warm_p {
-                contact_stage(inst, &fps, wp, left(settings), settings.seed)?
+                contact_stage(inst, &fps, wp, contact_left(), settings.seed)?
             } else {
                 None
             };

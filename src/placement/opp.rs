@@ -165,9 +165,29 @@ pub struct Search<'a> {
     x0: Vec<f64>,
     placed: Vec<bool>,
     y0: Vec<f64>,
+    /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
+    /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
+    visit: Option<&'a mut dyn FnMut(&[Pos]) -> bool>,
 }
 
 impl<'a> Search<'a> {
+    /// Enumerate packings in `w × d` (each at most once, every one whose objects all touch
+    /// something on their left and below among them) into `visit`. Returns `false` when
+    /// stopped by `stop` (the enumeration is then incomplete).
+    pub fn enumerate(
+        items: &'a [Item],
+        w: f64,
+        d: f64,
+        stop: &'a dyn Fn() -> bool,
+        visit: &'a mut dyn FnMut(&[Pos]) -> bool,
+    ) -> (bool, u64) {
+        let mut s = Search::new(items, w, d, stop);
+        s.anchor = None;
+        s.visit = Some(visit);
+        let complete = matches!(s.run(), Outcome::Infeasible);
+        (complete, s.nodes)
+    }
+
     /// A search for `items` in `w × d`; `stop` is polled now and then.
     pub fn new(items: &'a [Item], w: f64, d: f64, stop: &'a dyn Fn() -> bool) -> Self {
         let n = items.len();
@@ -199,6 +219,7 @@ impl<'a> Search<'a> {
             x0: vec![0.0; n],
             placed: vec![false; n],
             y0: vec![0.0; n],
+            visit: None,
         }
     }
 
@@ -332,6 +353,20 @@ impl<'a> Search<'a> {
             a1.min(b1) - a0.max(b0) > s.t
         };
         if done.iter().all(|&b| b) {
+            if let Some(v) = self.visit.as_mut() {
+                let pos: Vec<Pos> = (0..n)
+                    .map(|i| Pos {
+                        opt: self.opt[i],
+                        x: self.x0[i],
+                        y: self.y0[i],
+                    })
+                    .collect();
+                if v(&pos) {
+                    // The visitor has what it needs: stop like a limit would.
+                    self.stopped = true;
+                }
+                return false;
+            }
             return true;
         }
         // Each unplaced item sits above every placed item that covers its left edge, under
@@ -427,7 +462,8 @@ mod tests {
                 [q.x, q.y, q.x + f[0], q.y + f[1]]
             })
             .collect();
-        r.iter().all(|a| a[0] >= -1e-9 && a[1] >= -1e-9 && a[2] <= w + 1e-9 && a[3] <= d + 1e-9)
+        r.iter()
+            .all(|a| a[0] >= -1e-9 && a[1] >= -1e-9 && a[2] <= w + 1e-9 && a[3] <= d + 1e-9)
             && (0..r.len()).all(|i| {
                 (i + 1..r.len()).all(|j| {
                     let (a, b) = (r[i], r[j]);
