@@ -117,6 +117,9 @@ impl Cols {
     }
 }
 
+/// One pair's relation binaries (i, j, [left, right, below, above]), `None` when fixed to 0.
+type PairVars = (usize, usize, [Option<(Variable, usize)>; 4]);
+
 /// The placement MILP for one width bound: owns its variables.
 struct PlacementModel {
     /// Orientation binaries per object: (variable, column, footprint index).
@@ -124,7 +127,7 @@ struct PlacementModel {
     x: Vec<(Variable, usize)>,
     y: Vec<(Variable, usize)>,
     /// Pair binaries: (i, j, [left, right, below, above]) — `None` when fixed to 0.
-    pairs: Vec<(usize, usize, [Option<(Variable, usize)>; 4])>,
+    pairs: Vec<PairVars>,
     depth: (Variable, usize),
     constraints: Vec<Constraint>,
 }

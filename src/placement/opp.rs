@@ -144,6 +144,9 @@ pub fn refuted_by_bounds(items: &[Item], w: f64, d: f64) -> bool {
     false
 }
 
+/// What enumeration hands each packing to; `true` stops it.
+pub type Visitor<'a> = dyn FnMut(&[Pos]) -> bool + 'a;
+
 /// The exact search for one box.
 pub struct Search<'a> {
     items: &'a [Item],
@@ -167,7 +170,7 @@ pub struct Search<'a> {
     y0: Vec<f64>,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
     /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
-    visit: Option<&'a mut dyn FnMut(&[Pos]) -> bool>,
+    visit: Option<&'a mut Visitor<'a>>,
 }
 
 impl<'a> Search<'a> {
@@ -179,7 +182,7 @@ impl<'a> Search<'a> {
         w: f64,
         d: f64,
         stop: &'a dyn Fn() -> bool,
-        visit: &'a mut dyn FnMut(&[Pos]) -> bool,
+        visit: &'a mut Visitor<'a>,
     ) -> (bool, u64) {
         let mut s = Search::new(items, w, d, stop);
         s.anchor = None;
