@@ -22,6 +22,11 @@
 //! the first object of the largest class in the left half and the lower half — mirroring a
 //! compacted packing and compacting it again moves nothing right or up).
 
+use std::collections::HashMap;
+
+/// Most x-phase states remembered as dead per box (about 100 bytes each).
+const DEAD_MAX: usize = 2_000_000;
+
 /// One object: its distinct footprints `[x-extent, y-extent]`, and its class (objects of one
 /// class are interchangeable: same footprints).
 #[derive(Debug, Clone, PartialEq)]
@@ -161,6 +166,8 @@ pub struct Search<'a> {
     prev_same: Vec<Option<usize>>,
     /// Least area of each item among its fitting footprints.
     min_area: Vec<f64>,
+    /// Least depth of each item among its fitting footprints.
+    min_depth: Vec<f64>,
     /// First item of the largest class, kept in the lower-left quarter (mirror symmetry).
     anchor: Option<usize>,
     /// Per item: chosen footprint and left edge in the x-phase.
@@ -168,9 +175,15 @@ pub struct Search<'a> {
     x0: Vec<f64>,
     placed: Vec<bool>,
     y0: Vec<f64>,
+    /// x-phase states (position, placed set, free-depth profile ahead) proven to have no
+    /// complete x-assignment, with the least waste at which that was shown.
+    dead: HashMap<(u64, i64, Vec<(i64, i64)>), f64>,
+    /// Complete x-assignments handed to the y-phase so far.
+    yleaves: u64,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
     /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
     visit: Option<&'a mut Visitor<'a>>,
+    dead_enabled: bool,
 }
 
 impl<'a> Search<'a> {
@@ -202,6 +215,10 @@ impl<'a> Search<'a> {
             .iter()
             .map(|it| fitting(it, w, d).map(|g| g[0] * g[1]).fold(f64::INFINITY, f64::min))
             .collect();
+        let min_depth: Vec<f64> = items
+            .iter()
+            .map(|it| fitting(it, w, d).map(|g| g[1]).fold(f64::INFINITY, f64::min))
+            .collect();
         // The anchor is the first item of the class with the largest single area: mirroring
         // keeps footprints, so the bound below uses its narrowest fitting footprint.
         let anchor = (0..n)
@@ -217,17 +234,25 @@ impl<'a> Search<'a> {
             stopped: false,
             prev_same,
             min_area,
+            min_depth,
             anchor,
             opt: vec![0; n],
             x0: vec![0.0; n],
             placed: vec![false; n],
             y0: vec![0.0; n],
             visit: None,
+            dead: HashMap::new(),
+            yleaves: 0,
+            dead_enabled: true,
         }
     }
 
     /// Decide the box.
     pub fn run(&mut self) -> Outcome {
+        if self.items.len() > 64 {
+            // The state key is a 64-bit set; so large an instance is out of reach anyway.
+            self.dead_enabled = false;
+        }
         if refuted_by_bounds(self.items, self.w, self.d) {
             return Outcome::Infeasible;
         }
@@ -272,6 +297,41 @@ impl<'a> Search<'a> {
         (cap - least) / 2.0 + self.t
     }
 
+    /// Free depth from `t` on, column by column: an object of depth `h` fits only in columns
+    /// with at least `h` free, so the objects of least depth at least `h` (their least areas)
+    /// must fit in those columns' free area, for every such `h`.
+    fn capacity_refutes(&self, t: f64) -> bool {
+        let n = self.items.len();
+        let mut ends: Vec<(f64, f64)> = (0..n)
+            .filter(|&j| self.placed[j])
+            .map(|j| (self.x0[j] + self.dims(j)[0], self.dims(j)[1]))
+            .filter(|&(e, _)| e > t + self.t)
+            .collect();
+        ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut load: f64 = ends.iter().map(|e| e.1).sum();
+        let mut pieces: Vec<(f64, f64)> = Vec::with_capacity(ends.len() + 1);
+        let mut x = t;
+        for &(e, h) in &ends {
+            pieces.push((e - x, self.d - load));
+            load -= h;
+            x = e;
+        }
+        pieces.push((self.w - x, self.d));
+        let mut rem: Vec<usize> = (0..n).filter(|&i| !self.placed[i]).collect();
+        rem.sort_by(|&a, &b| self.min_depth[b].total_cmp(&self.min_depth[a]));
+        let tol = self.t * (self.w + self.d);
+        let mut area = 0.0;
+        for &i in &rem {
+            area += self.min_area[i];
+            let h = self.min_depth[i];
+            let avail: f64 = pieces.iter().filter(|p| p.1 >= h - self.t).map(|p| p.0 * p.1).sum();
+            if area > avail + tol {
+                return true;
+            }
+        }
+        false
+    }
+
     /// x-phase at position `t` (every placed item starts at or before it): place an item at
     /// `t` (index at least `min_idx`, so that items sharing a left edge come in index order),
     /// or move `t` to the next right edge, leaving the column's free height unused for good.
@@ -287,6 +347,52 @@ impl<'a> Search<'a> {
         if placed_area + rem_area + waste > self.w * self.d + tol {
             return false;
         }
+        if self.capacity_refutes(t) {
+            return false;
+        }
+        // States reached again by another order of the objects behind `t`: the x-phase ahead
+        // depends only on which objects are placed, where the placed ones end, and how deep they
+        // are — and on the waste so far, which only makes pruning easier. A state whose subtree
+        // failed without reaching the y-phase fails again at no less waste.
+        let key = (min_idx == 0 && self.dead_enabled).then(|| self.state_key(t));
+        if let Some(k) = &key {
+            if self.dead.get(k).is_some_and(|&w0| w0 <= waste + tol) {
+                return false;
+            }
+        }
+        let leaves_before = self.yleaves;
+        let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
+        if let Some(k) = key {
+            if !found && !self.stopped && self.yleaves == leaves_before && self.dead.len() < DEAD_MAX {
+                let e = self.dead.entry(k).or_insert(f64::INFINITY);
+                *e = e.min(waste);
+            }
+        }
+        found
+    }
+
+    /// The memo key of the x-phase state at `t`, lengths in units of the tolerance.
+    fn state_key(&self, t: f64) -> (u64, i64, Vec<(i64, i64)>) {
+        let q = |v: f64| (v / self.t).round() as i64;
+        let n = self.items.len();
+        let mut mask = 0u64;
+        let mut active = Vec::new();
+        for j in 0..n {
+            if self.placed[j] {
+                mask |= 1 << j;
+                let e = self.x0[j] + self.dims(j)[0];
+                if e > t + self.t {
+                    active.push((q(e), q(self.dims(j)[1])));
+                }
+            }
+        }
+        active.sort_unstable();
+        (mask, q(t), active)
+    }
+
+    /// The branches of [`Self::xphase`] at `t`.
+    fn xbranch(&mut self, t: f64, min_idx: usize, placed_area: f64, rem_area: f64, waste: f64) -> bool {
+        let n = self.items.len();
         let load: f64 = (0..n)
             .filter(|&j| self.placed[j] && self.x0[j] + self.dims(j)[0] > t + self.t)
             .map(|j| self.dims(j)[1])
@@ -336,6 +442,7 @@ impl<'a> Search<'a> {
 
     /// y-phase for the current x-assignment.
     fn ycheck(&mut self) -> bool {
+        self.yleaves += 1;
         let n = self.items.len();
         let mut done = vec![false; n];
         let mut top = vec![0.0; n];
