@@ -387,17 +387,25 @@ pub fn solve(
 }
 
 /// Second stage by enumeration: the most contact length among the BL-stable packings inside
-/// `w × d` (the search meets every one of them, see [`opp`]). Returns the best placement, whether
-/// the enumeration finished (then it is proven best), and the nodes visited.
+/// `w × d` (the search meets every one of them, see [`opp`]), if more than `to_beat`. Returns
+/// the best placement found (`None`: none beats `to_beat`), whether the enumeration finished
+/// (then nothing in the box beats the result), and the nodes visited.
 pub fn max_contact(
     inst: &Instance,
     fps: &[Footprints],
     (w, d): (f64, f64),
+    to_beat: f64,
     stop: &dyn Fn() -> bool,
 ) -> (Option<Placement>, bool, u64) {
     let (items, order) = items(fps);
     let flip = w < d;
     let mut best: Option<(f64, Placement)> = None;
+    // Only packings with more contact than `to_beat` matter: the search cuts the others by an
+    // upper bound (every side in contact but the deficits known), and each find raises it.
+    let bound = std::cell::Cell::new(to_beat);
+    let (cw, cd) = (inst.container.width, inst.container.depth);
+    let far = [w >= cw - EPS, d >= cd - EPS];
+    let far = if flip { [far[1], far[0]] } else { far };
     let mut visit = |pos: &[opp::Pos]| {
         let mut targets = vec![None; fps.len()];
         for (k, p) in pos.iter().enumerate() {
@@ -422,16 +430,17 @@ pub fn max_contact(
         if super::is_bl_stable(&targets) {
             let p = Placement { targets };
             let c = p.contact_length(inst);
-            if best.as_ref().is_none_or(|(b, _)| c > *b + 1e-9) {
+            if c > bound.get() + 1e-9 {
+                bound.set(c);
                 best = Some((c, p));
             }
         }
         false
     };
     let (complete, nodes) = if flip {
-        Search::enumerate(&swapped(&items), d, w, stop, &mut visit)
+        Search::enumerate(&swapped(&items), d, w, stop, &mut visit, Some(&bound), far)
     } else {
-        Search::enumerate(&items, w, d, stop, &mut visit)
+        Search::enumerate(&items, w, d, stop, &mut visit, Some(&bound), far)
     };
     (best.map(|(_, p)| p), complete, nodes)
 }

@@ -803,7 +803,7 @@ pub fn solve_report(
             let deadline = area_stage_s.max(1.0);
             let contact_left = || (deadline - (start.elapsed().as_secs_f64() - area_stage_s)).min(left(settings));
             let halt_contact = || stop.should_stop() || contact_left() <= 0.0;
-            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, &halt_contact);
+            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, best_contact, &halt_contact);
             nodes += n_enum;
             if let Some(p) = &enum_best {
                 let c = p.contact_length(inst);

@@ -22,6 +22,7 @@
 //! the first object of the largest class in the left half and the lower half — mirroring a
 //! compacted packing and compacting it again moves nothing right or up).
 
+use std::cell::Cell;
 use std::collections::HashMap;
 
 /// Most x-phase states remembered as dead per box (about 100 bytes each).
@@ -184,22 +185,42 @@ pub struct Search<'a> {
     /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
     visit: Option<&'a mut Visitor<'a>>,
     dead_enabled: bool,
+    /// Contact pruning (enumeration for the contact stage): branches whose contact-length upper
+    /// bound does not beat this value are cut.
+    cbound: Option<&'a Cell<f64>>,
+    /// The box reaches the container's far walls (x = its width, y = its depth), which then
+    /// count as contact.
+    far: [bool; 2],
+    /// Left sides of placed items that cannot be in full contact, summed (x-phase).
+    ldef: f64,
+    /// Bottom sides of items placed in the y-phase not in contact, summed.
+    ydef: f64,
+    /// Contact bound of the current complete x-assignment.
+    ub_x: f64,
+    /// Branches cut by the contact bound.
+    cpruned: u64,
 }
 
 impl<'a> Search<'a> {
     /// Enumerate packings in `w × d` (each at most once, every one whose objects all touch
-    /// something on their left and below among them) into `visit`. Returns `false` when
-    /// stopped by `stop` (the enumeration is then incomplete).
+    /// something on their left and below among them) into `visit`. With `bound`, only packings
+    /// whose contact length (objects, the walls x = 0 and y = 0, and the far walls where `far`
+    /// says the box reaches them) may exceed it are guaranteed to be visited; the visitor may
+    /// raise it. Returns whether the enumeration finished (`false`: stopped by `stop`).
     pub fn enumerate(
         items: &'a [Item],
         w: f64,
         d: f64,
         stop: &'a dyn Fn() -> bool,
         visit: &'a mut Visitor<'a>,
+        bound: Option<&'a Cell<f64>>,
+        far: [bool; 2],
     ) -> (bool, u64) {
         let mut s = Search::new(items, w, d, stop);
         s.anchor = None;
         s.visit = Some(visit);
+        s.cbound = bound;
+        s.far = far;
         let complete = matches!(s.run(), Outcome::Infeasible);
         (complete, s.nodes)
     }
@@ -244,6 +265,12 @@ impl<'a> Search<'a> {
             dead: HashMap::new(),
             yleaves: 0,
             dead_enabled: true,
+            cbound: None,
+            far: [false; 2],
+            ldef: 0.0,
+            ydef: 0.0,
+            ub_x: 0.0,
+            cpruned: 0,
         }
     }
 
@@ -332,6 +359,26 @@ impl<'a> Search<'a> {
         false
     }
 
+    /// Contact-length upper bound in the x-phase: every side in full contact except the
+    /// deficits known so far, plus the far walls' lengths.
+    fn contact_ub(&self) -> f64 {
+        let n = self.items.len();
+        let sides: f64 = (0..n)
+            .map(|i| {
+                if self.placed[i] {
+                    let f = self.dims(i);
+                    f[0] + f[1]
+                } else {
+                    fitting(&self.items[i], self.w, self.d)
+                        .map(|g| g[0] + g[1])
+                        .fold(0.0, f64::max)
+                }
+            })
+            .sum();
+        let far = if self.far[0] { self.d } else { 0.0 } + if self.far[1] { self.w } else { 0.0 };
+        sides - self.ldef + far
+    }
+
     /// x-phase at position `t` (every placed item starts at or before it): place an item at
     /// `t` (index at least `min_idx`, so that items sharing a left edge come in index order),
     /// or move `t` to the next right edge, leaving the column's free height unused for good.
@@ -340,6 +387,12 @@ impl<'a> Search<'a> {
             return false;
         }
         let n = self.items.len();
+        if let Some(cb) = self.cbound {
+            if self.contact_ub() <= cb.get() + 1e-9 {
+                self.cpruned += 1;
+                return false;
+            }
+        }
         if (0..n).all(|i| self.placed[i]) {
             return self.ycheck();
         }
@@ -360,10 +413,15 @@ impl<'a> Search<'a> {
                 return false;
             }
         }
-        let leaves_before = self.yleaves;
+        let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
         if let Some(k) = key {
-            if !found && !self.stopped && self.yleaves == leaves_before && self.dead.len() < DEAD_MAX {
+            if !found
+                && !self.stopped
+                && self.yleaves == leaves_before
+                && self.cpruned == cut_before
+                && self.dead.len() < DEAD_MAX
+            {
                 let e = self.dead.entry(k).or_insert(f64::INFINITY);
                 *e = e.min(waste);
             }
@@ -410,11 +468,24 @@ impl<'a> Search<'a> {
                 if f[0] > self.w - t + self.t || f[1] > cap + self.t {
                     continue;
                 }
+                // Its left side touches only objects ending at `t` (all placed) or the wall.
+                let left = if t <= self.t {
+                    f[1]
+                } else {
+                    let h: f64 = (0..n)
+                        .filter(|&j| self.placed[j] && (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t)
+                        .map(|j| self.dims(j)[1])
+                        .sum();
+                    h.min(f[1])
+                };
                 self.placed[i] = true;
                 self.opt[i] = k;
                 self.x0[i] = t;
+                self.ldef += f[1] - left;
                 let a = f[0] * f[1];
-                if self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste) {
+                let found = self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste);
+                self.ldef -= f[1] - left;
+                if found {
                     return true;
                 }
                 self.placed[i] = false;
@@ -446,6 +517,8 @@ impl<'a> Search<'a> {
         let n = self.items.len();
         let mut done = vec![false; n];
         let mut top = vec![0.0; n];
+        self.ub_x = self.contact_ub();
+        self.ydef = 0.0;
         self.yphase(&mut done, &mut top, 0.0, 0)
     }
 
@@ -534,10 +607,34 @@ impl<'a> Search<'a> {
             {
                 continue;
             }
+            // Bottom side in contact: with the floor, or with the placed tops at `y`.
+            let wi = self.dims(i)[0];
+            let bottom = if y <= self.t {
+                wi
+            } else {
+                (0..n)
+                    .filter(|&j| done[j] && (top[j] - y).abs() <= self.t)
+                    .map(|j| {
+                        let (a0, a1) = xr(self, i);
+                        let (b0, b1) = xr(self, j);
+                        (a1.min(b1) - a0.max(b0)).max(0.0)
+                    })
+                    .sum::<f64>()
+                    .min(wi)
+            };
+            if let Some(cb) = self.cbound {
+                if self.ub_x - self.ydef - (wi - bottom) <= cb.get() + 1e-9 {
+                    self.cpruned += 1;
+                    continue;
+                }
+            }
             done[i] = true;
             top[i] = y + self.dims(i)[1];
             self.y0[i] = y;
-            if self.yphase(done, top, y, i) {
+            self.ydef += wi - bottom;
+            let found = self.yphase(done, top, y, i);
+            self.ydef -= wi - bottom;
+            if found {
                 return true;
             }
             done[i] = false;
