@@ -1,5 +1,5 @@
 //! First, area stage of the exact placement: enclosing boxes `W × D` in increasing area, each
-//! decided exactly by [`opp`](super::opp).
+//! decided exactly by [`super::opp`].
 //!
 //! Every placement compacts into a BL-stable one with no larger extents, whose extents are
 //! subset sums of footprint x- and y-extents (one per object). So the least occupied area is the

@@ -800,7 +800,12 @@ pub fn solve_report(
             });
             // Enumeration first: in a box of the optimal area packings are few. It gets the
             // area stage's time (at least a second); the MILP gets what remains of it.
-            let deadline = area_stage_s.max(1.0);
+            // `PUSHPACK_CONTACT_BUDGET` (seconds) overrides it, for measurements only
+            // (docs/benchmarks.md).
+            let deadline = std::env::var("PUSHPACK_CONTACT_BUDGET")
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(area_stage_s.max(1.0));
             let contact_left = || (deadline - (start.elapsed().as_secs_f64() - area_stage_s)).min(left(settings));
             let halt_contact = || stop.should_stop() || contact_left() <= 0.0;
             let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, best_contact, &halt_contact);

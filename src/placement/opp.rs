@@ -25,6 +25,10 @@
 use std::cell::Cell;
 use std::collections::HashMap;
 
+/// An x-phase state: placed set, position, (end, depth) of the placed objects still open; lengths
+/// in units of the tolerance.
+type StateKey = (u64, i64, Vec<(i64, i64)>);
+
 /// Most x-phase states remembered as dead per box (about 100 bytes each).
 const DEAD_MAX: usize = 2_000_000;
 
@@ -178,7 +182,7 @@ pub struct Search<'a> {
     y0: Vec<f64>,
     /// x-phase states (position, placed set, free-depth profile ahead) proven to have no
     /// complete x-assignment, with the least waste at which that was shown.
-    dead: HashMap<(u64, i64, Vec<(i64, i64)>), f64>,
+    dead: HashMap<StateKey, f64>,
     /// Complete x-assignments handed to the y-phase so far.
     yleaves: u64,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
@@ -430,7 +434,7 @@ impl<'a> Search<'a> {
     }
 
     /// The memo key of the x-phase state at `t`, lengths in units of the tolerance.
-    fn state_key(&self, t: f64) -> (u64, i64, Vec<(i64, i64)>) {
+    fn state_key(&self, t: f64) -> StateKey {
         let q = |v: f64| (v / self.t).round() as i64;
         let n = self.items.len();
         let mut mask = 0u64;
