@@ -1,4 +1,8 @@
-//! Exact placement: orientations, positions and non-overlap as MILPs (good_lp + HiGHS).
+//! Exact placement: the area stage by enclosing boxes in area order, each decided by an exact
+//! packing search ([`super::area`], [`super::opp`]); the contact stage by enumerating the
+//! packings of each optimal box, with the HiGHS grid MILP below for what that leaves open
+//! (docs/algorithms.md). The per-width depth MILPs described next were the area stage before
+//! issue 21; the models remain for the contact stage.
 //!
 //! The occupied area `W·D` is bilinear, so it is minimised exactly by enumeration of the
 //! occupied width. Every placement can be compacted (slid down and left) into a BL-stable one
