@@ -52,6 +52,15 @@ pub enum Error {
         /// The fewest actions any plan needs, as proven before the stop (A* only).
         min_actions: Option<usize>,
     },
+    /// A solver library failed (it neither solved nor proved anything): never a proof of
+    /// infeasibility.
+    #[error("{solver} failed: {reason}")]
+    Solver {
+        /// The library (`"HiGHS"`).
+        solver: String,
+        /// What it reported.
+        reason: String,
+    },
     /// The instance is valid, but no plan satisfying every constraint exists within the search.
     #[error("no feasible plan: {reason}")]
     Infeasible {

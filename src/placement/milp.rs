@@ -1,4 +1,8 @@
-//! Exact placement: orientations, positions and non-overlap as MILPs (good_lp + HiGHS).
+//! Exact placement: the area stage by enclosing boxes in area order, each decided by an exact
+//! packing search ([`super::area`], [`super::opp`]); the contact stage by enumerating the
+//! packings of each optimal box, with the HiGHS grid MILP below for what that leaves open
+//! (docs/algorithms.md). The per-width depth MILPs described next were the area stage before
+//! issue 21; the models remain for the contact stage.
 //!
 //! The occupied area `W·D` is bilinear, so it is minimised exactly by enumeration of the
 //! occupied width. Every placement can be compacted (slid down and left) into a BL-stable one
@@ -26,7 +30,8 @@
 //! and allowed footprints) are ordered by `x` (symmetry breaking; valid because any placement can
 //! be relabelled so).
 
-use super::{area_lower_bound, is_bl_stable, Placement, PlacementResult, PlacementStatus, Target};
+use super::area::{self, BoundPoint};
+use super::{is_bl_stable, Placement, PlacementResult, PlacementStatus, Target};
 use crate::control::Terminator;
 use crate::error::{Error, Result};
 use crate::geometry::{Axis2, Orientation, Rect, EPS};
@@ -34,7 +39,11 @@ use crate::instance::Instance;
 use good_lp::solvers::highs::highs;
 use good_lp::{variable, Constraint, Expression, ProblemVariables, SolverModel, Variable};
 use highs::HighsModelStatus;
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
+
+/// Tolerance on areas when collecting the extents tied with the optimum.
+const AREA_TOL: f64 = 1e-9;
 
 /// MILP settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -112,6 +121,9 @@ impl Cols {
     }
 }
 
+/// One pair's relation binaries (i, j, [left, right, below, above]), `None` when fixed to 0.
+type PairVars = (usize, usize, [Option<(Variable, usize)>; 4]);
+
 /// The placement MILP for one width bound: owns its variables.
 struct PlacementModel {
     /// Orientation binaries per object: (variable, column, footprint index).
@@ -119,7 +131,7 @@ struct PlacementModel {
     x: Vec<(Variable, usize)>,
     y: Vec<(Variable, usize)>,
     /// Pair binaries: (i, j, [left, right, below, above]) — `None` when fixed to 0.
-    pairs: Vec<(usize, usize, [Option<(Variable, usize)>; 4])>,
+    pairs: Vec<PairVars>,
     depth: (Variable, usize),
     constraints: Vec<Constraint>,
 }
@@ -462,76 +474,6 @@ impl GridModel {
     }
 }
 
-/// Tolerance on depths (m): far below any size step, far above solver noise.
-const DEPTH_TOL: f64 = 1e-7;
-/// Tolerance on areas (m²) when comparing bounds with the incumbent.
-const AREA_TOL: f64 = 1e-9;
-/// Depth steps above the proven bound that one visit's cut allows (see `solve`).
-const CUT_WINDOW: usize = 1;
-/// Share of the time limit one visit of a width candidate may take at first.
-const CAP_SHARE: f64 = 0.1;
-
-/// A width candidate and what is proven about it.
-struct Cand {
-    w: f64,
-    /// Proven lower bound on D(w), the least depth of a placement no wider than w.
-    dl: f64,
-    /// D(w) is known (dl is it).
-    solved: bool,
-    /// Visits stopped by their cap.
-    tries: u32,
-    /// HiGHS's answer could not be turned into a proof; only dl is kept.
-    given_up: bool,
-}
-
-/// Spread what is proven about candidate `k` to the others. D(W) does not grow with W, so a
-/// depth bound at `w` holds at every narrower width. When placements transpose, "nothing fits
-/// in w × d" (d the largest depth below the bound) also says "nothing fits in d × w": every
-/// width up to d needs a depth above w.
-fn propagate(cands: &mut [Cand], k: usize, transposable: bool, above: &dyn Fn(f64) -> f64, below: &dyn Fn(f64) -> f64) {
-    let (w, dl) = (cands[k].w, cands[k].dl);
-    for c in cands.iter_mut().filter(|c| c.w <= w + EPS) {
-        c.dl = c.dl.max(dl);
-    }
-    if transposable && dl.is_finite() {
-        let d = below(dl);
-        let lift = above(w);
-        for c in cands.iter_mut().filter(|c| c.w <= d + EPS) {
-            c.dl = c.dl.max(lift);
-        }
-    }
-}
-
-/// A placement of extent `(w, d)` shows `D(c.w) ≤ d` for every candidate at least `w` wide;
-/// where the proven bound already reaches `d`, that candidate's `D` is known.
-fn close_with(cands: &mut [Cand], (w, d): (f64, f64)) {
-    for c in cands.iter_mut().filter(|c| c.w >= w - EPS && c.dl >= d - DEPTH_TOL) {
-        c.solved = true;
-    }
-}
-
-/// `p` mirrored in the line `x = y`: every footprint's position and sizes swapped, each object
-/// turned to its footprint with swapped sizes (`None` if one has none).
-fn transpose(p: &Placement, fps: &[Vec<([f64; 2], Orientation, f64)>]) -> Option<Placement> {
-    let targets = p
-        .targets
-        .iter()
-        .zip(fps)
-        .map(|(t, opts)| {
-            let (w, d) = (t.rect.width(), t.rect.depth());
-            let &(_, q, h) = opts
-                .iter()
-                .find(|(f, _, _)| (f[0] - d).abs() <= EPS && (f[1] - w).abs() <= EPS)?;
-            Some(Target {
-                orientation: q,
-                rect: Rect::new(t.rect.y0, t.rect.x0, d, w),
-                height: h,
-            })
-        })
-        .collect::<Option<Vec<_>>>()?;
-    Some(Placement { targets })
-}
-
 /// Largest grid model (cover-row non-zeros) built before falling back to the disjunctive model.
 const GRID_MAX_NNZ: usize = 400_000;
 
@@ -544,84 +486,10 @@ fn grid_max_nnz() -> usize {
         .unwrap_or(GRID_MAX_NNZ)
 }
 
-/// Largest grid model (cover-row non-zeros) solved with HiGHS presolve on. Below it presolve
-/// pays (the paper's eight-object models close at the root instead of after 50 nodes of cut
-/// rounds, 0.4 s instead of 1.1 s); from 20k to 100k, the same 12-object models were as often
-/// slower as faster with it, and above, presolve alone can take the whole visit cap
-/// (docs/benchmarks.md).
-const GRID_PRESOLVE_MAX_NNZ: usize = 20_000;
-
-/// One depth-minimisation MILP for width `w`, cut `d`: the HiGHS result and its placement.
-fn depth_milp(
-    inst: &Instance,
-    fps: &[Vec<([f64; 2], Orientation, f64)>],
-    w: f64,
-    d: f64,
-    best: &Placement,
-    time_left: f64,
-    seed: u64,
-    abs_gap: f64,
-) -> Result<Option<(Solved, Option<Placement>, &'static str)>> {
-    let mut cols = Cols {
-        pv: ProblemVariables::new(),
-        n: 0,
-    };
-    let (bw, bd) = best.extent();
-    let warm_fits = bw <= w + EPS && bd <= d + EPS;
-    let nnz = GridModel::size(inst, fps, w, d);
-    if std::env::var_os("PUSHPACK_DEBUG").is_some() {
-        eprintln!("  grid size {nnz} nnz (limit {})", grid_max_nnz());
-    }
-    if nnz <= grid_max_nnz() {
-        let t0 = Instant::now();
-        let Some(model) = GridModel::build(inst, fps, w, d, &mut cols) else {
-            return Ok(None);
-        };
-        let init = if warm_fits {
-            model.initial(fps, best, cols.n)
-        } else {
-            None
-        };
-        let mut problem = cols.pv.minimise(model.depth.0).using(highs);
-        for c in model.constraints.iter().cloned() {
-            problem = problem.with(c);
-        }
-        if std::env::var_os("PUSHPACK_DEBUG").is_some() {
-            eprintln!(
-                "  grid: {} vars, {} rows, built in {:.2}s",
-                model.vars.len(),
-                model.constraints.len(),
-                t0.elapsed().as_secs_f64()
-            );
-        }
-        let presolve = nnz <= GRID_PRESOLVE_MAX_NNZ;
-        let solved = run_highs(problem, init.as_deref(), time_left, seed, abs_gap, presolve)?;
-        let p = solved.cols.as_deref().map(|c| model.extract(fps, inst.n(), c));
-        return Ok(Some((solved, p, "grid")));
-    }
-    let Some(model) = PlacementModel::build(inst, fps, w, d, &mut cols) else {
-        return Ok(None);
-    };
-    let init = if warm_fits {
-        Some(initial_columns(fps, &model, best, cols.n))
-    } else {
-        None
-    };
-    let mut problem = cols.pv.minimise(model.depth.0).using(highs);
-    for c in model.constraints.iter().cloned() {
-        problem = problem.with(c);
-    }
-    let solved = run_highs(problem, init.as_deref(), time_left, seed, abs_gap, true)?;
-    let p = solved.cols.as_deref().map(|c| extract(inst, fps, &model, c));
-    Ok(Some((solved, p, "disjunctive")))
-}
-
 /// Outcome of one HiGHS run.
 struct Solved {
     status: HighsModelStatus,
     cols: Option<Vec<f64>>,
-    objective: f64,
-    dual_bound: f64,
     nodes: u64,
 }
 
@@ -634,8 +502,9 @@ fn run_highs(
     presolve: bool,
 ) -> Result<Solved> {
     let t0 = Instant::now();
-    let mut model = problem.try_into_inner().map_err(|e| Error::Infeasible {
-        reason: format!("HiGHS could not build the model: {e}"),
+    let mut model = problem.try_into_inner().map_err(|e| Error::Solver {
+        solver: "HiGHS".into(),
+        reason: format!("could not build the model: {e}"),
     })?;
     model.make_quiet();
     if std::env::var("PUSHPACK_DEBUG").map(|v| v == "2").unwrap_or(false) {
@@ -667,8 +536,9 @@ fn run_highs(
         model.set_solution(Some(sol), None, None, None);
     }
     let t1 = Instant::now();
-    let solved = model.try_solve().map_err(|e| Error::Infeasible {
-        reason: format!("HiGHS failed: {e:?}"),
+    let solved = model.try_solve().map_err(|e| Error::Solver {
+        solver: "HiGHS".into(),
+        reason: format!("{e:?}"),
     })?;
     if std::env::var_os("PUSHPACK_DEBUG").is_some() {
         eprintln!(
@@ -684,19 +554,8 @@ fn run_highs(
     } else {
         None
     };
-    let dual_bound = solved.double_info_value(c"mip_dual_bound").unwrap_or(f64::NEG_INFINITY);
     let nodes = mip_node_count(&solved);
-    Ok(Solved {
-        status,
-        cols,
-        objective: if has_sol {
-            solved.objective_value()
-        } else {
-            f64::INFINITY
-        },
-        dual_bound,
-        nodes,
-    })
+    Ok(Solved { status, cols, nodes })
 }
 
 /// HiGHS's branch-and-bound node count (an int64 info value the `highs` crate does not read).
@@ -808,84 +667,91 @@ pub fn compact(p: &Placement) -> Placement {
     Placement { targets: t }
 }
 
-/// Minimise the occupied area exactly (then maximise contact), warm-started by `warm`.
+/// Minimise the occupied area exactly (then maximise contact). `warm` only seeds the
+/// incumbent: an empty or invalid warm placement changes nothing but speed.
 pub fn solve(
     inst: &Instance,
     warm: &PlacementResult,
     settings: &MilpSettings,
     stop: &dyn Terminator,
 ) -> Result<PlacementResult> {
+    solve_report(inst, warm, settings, stop).map(|(r, _)| r)
+}
+
+/// What [`solve_report`] did besides its result.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct MilpReport {
+    /// Proven lower bound and incumbent area over time.
+    pub trace: Vec<BoundPoint>,
+    /// Seconds in the area stage (boxes by area, exact packing search).
+    pub area_stage_s: f64,
+    /// Seconds in the contact stage (HiGHS MILPs).
+    pub contact_stage_s: f64,
+    /// Enclosing boxes decided, and how many of them needed the exact search.
+    pub boxes: u64,
+    /// Boxes decided by the exact search rather than by bounds or dominance.
+    pub boxes_searched: u64,
+    /// The area is proven minimal.
+    pub area_optimal: bool,
+    /// The contact length is proven maximal among area-optimal placements.
+    pub contact_optimal: bool,
+}
+
+/// [`solve`], with the bound-over-time trace and the cost of each stage.
+pub fn solve_report(
+    inst: &Instance,
+    warm: &PlacementResult,
+    settings: &MilpSettings,
+    stop: &dyn Terminator,
+) -> Result<(PlacementResult, MilpReport)> {
     let start = Instant::now();
     let left = |s: &MilpSettings| s.time_limit - start.elapsed().as_secs_f64();
     let fps = footprints(inst);
-    let (cw, cd) = (inst.container.width, inst.container.depth);
-    let sum_min_area = area_lower_bound(inst);
-    let widths = candidate_widths(&fps, cw);
-    // D(W), the least depth with width at most W, is the depth of a compacted placement, so it
-    // is a subset sum of footprint y-extents (one per object). Every depth bound below is
-    // rounded up to this set, and every depth cut down to it.
-    let yv: Vec<Vec<f64>> = fps.iter().map(|o| o.iter().map(|(f, _, _)| f[1]).collect()).collect();
-    let depths: Vec<f64> = subset_sums(&yv, cd + EPS).into_iter().filter(|&t| t > EPS).collect();
-    let ceil_depth = |d: f64| -> f64 {
-        let i = depths.partition_point(|&t| t < d - DEPTH_TOL);
-        depths.get(i).copied().unwrap_or(f64::INFINITY)
+    let halt = || stop.should_stop() || left(settings) <= 0.0;
+    let warm_p = (!warm.placement.targets.is_empty()).then_some(&warm.placement);
+    // Without a warm start, a quarter of the limit may go to finding any packing at all.
+    let area = area::solve(
+        inst,
+        &fps,
+        warm_p,
+        settings.contact_stage,
+        start,
+        settings.time_limit * 0.25,
+        &halt,
+    );
+    let area_stage_s = start.elapsed().as_secs_f64();
+    let mut report = MilpReport {
+        trace: area.trace.clone(),
+        area_stage_s,
+        boxes: area.boxes,
+        boxes_searched: area.boxes_searched,
+        area_optimal: area.optimal,
+        ..MilpReport::default()
     };
-    let floor_depth = |d: f64| -> f64 {
-        let i = depths.partition_point(|&t| t <= d + DEPTH_TOL);
-        if i == 0 {
-            0.0
-        } else {
-            depths[i - 1]
-        }
+    if area.infeasible {
+        return Err(Error::Infeasible {
+            reason: format!(
+                "the objects fit in no box inside the {} × {} container: every enclosing box was refuted by bounds or an exhaustive search ({} boxes)",
+                inst.container.width, inst.container.depth, area.boxes
+            ),
+        });
+    }
+    let Some(mut best) = area.best.clone() else {
+        return Err(Error::Stopped {
+            stage: "placement (milp)".into(),
+            limit: crate::error::TIME_LIMIT.into(),
+            nodes: area.nodes,
+            elapsed_s: area_stage_s,
+            min_actions: None,
+        });
     };
-    // Smallest depth strictly above `d`: what "infeasible with the cut D ≤ d" proves.
-    let above = |d: f64| -> f64 {
-        let i = depths.partition_point(|&t| t <= d + DEPTH_TOL);
-        depths.get(i).copied().unwrap_or(f64::INFINITY)
-    };
-    // HiGHS may stop once its gap is below the closest spacing of two depths: then no depth
-    // lies strictly between its dual bound and its incumbent, and the rounded bound proves it.
-    let spacing = depths.windows(2).map(|p| p[1] - p[0]).fold(f64::INFINITY, f64::min);
-    let abs_gap = if spacing.is_finite() {
-        (spacing - 4.0 * DEPTH_TOL).max(1e-9)
-    } else {
-        1e-9
-    };
-    let initial_depth = |w: f64| -> f64 {
-        // Per object among the footprints that fit width w: the least depth (each object needs
-        // it), the least area (the area bound), and the objects all of whose fitting
-        // footprints are wider than w/2 (no two of them sit side by side, so their depths add).
-        let (mut dmax, mut area, mut wide) = (0.0f64, 0.0, 0.0);
-        for opts in &fps {
-            let fit: Vec<[f64; 2]> = opts
-                .iter()
-                .map(|(f, _, _)| *f)
-                .filter(|f| f[0] <= w + EPS && f[1] <= cd + EPS)
-                .collect();
-            if fit.is_empty() {
-                return f64::INFINITY;
-            }
-            let dmin = fit.iter().map(|f| f[1]).fold(f64::INFINITY, f64::min);
-            dmax = dmax.max(dmin);
-            area += fit.iter().map(|f| f[0] * f[1]).fold(f64::INFINITY, f64::min);
-            if fit.iter().all(|f| f[0] > w / 2.0 + EPS) {
-                wide += dmin;
-            }
-        }
-        ceil_depth(dmax.max(wide).max(area / w))
-    };
-    let mut cands: Vec<Cand> = widths
-        .iter()
-        .map(|&w| Cand {
-            w,
-            dl: initial_depth(w),
-            solved: false,
-            tries: 0,
-            given_up: false,
-        })
-        .filter(|c| c.dl.is_finite())
-        .collect();
-
+    let best_area = best.occupied_area();
+    let area_optimal = area.optimal;
+    let ties_closed = area.ties_closed;
+    let lower_bound = area.lower_bound;
+    let solutions = area.solutions;
+    let mut milps = 0u64;
+    let mut nodes = warm.nodes + area.nodes;
     // Every object's footprints closed under swapping x and y: a placement transposes.
     let transposable = fps.iter().all(|o| {
         o.iter().all(|(f, _, _)| {
@@ -893,155 +759,6 @@ pub fn solve(
                 .any(|(g, _, _)| (g[0] - f[1]).abs() <= EPS && (g[1] - f[0]).abs() <= EPS)
         })
     });
-    // Largest depth strictly below `d`.
-    let below = |d: f64| -> f64 {
-        let i = depths.partition_point(|&t| t < d - DEPTH_TOL);
-        if i == 0 {
-            0.0
-        } else {
-            depths[i - 1]
-        }
-    };
-    for k in 0..cands.len() {
-        propagate(&mut cands, k, transposable, &above, &below);
-    }
-    let mut best = compact(&warm.placement);
-    let mut best_area = best.occupied_area();
-    let mut milps = 0u64;
-    let mut nodes = warm.nodes;
-    // Area-optimal candidates found (their solutions), for the contact stage.
-    // A placement and its mirror image in x = y, when every chosen footprint has a swapped one
-    // and the mirror fits the container: both are solutions of the same area.
-    let with_mirror = |p: Placement| -> Vec<Placement> {
-        let t = transpose(&p, &fps).filter(|t| t.violations(inst).is_empty());
-        std::iter::once(p).chain(t).collect()
-    };
-    let mut solutions: Vec<Placement> = with_mirror(best.clone());
-    for p in &solutions {
-        close_with(&mut cands, p.extent());
-    }
-    let base_cap = (settings.time_limit * CAP_SHARE).max(1.0);
-    loop {
-        // Candidates that may still hold a smaller area (first), then those whose bound equals
-        // the incumbent: they may reach it, and the contact stage needs every such extent.
-        let key = |c: &Cand| {
-            let tie = c.w * c.dl >= best_area - AREA_TOL;
-            (tie, c.tries, c.w * c.dl, c.w)
-        };
-        let next = cands
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| !c.solved && !c.given_up && c.w * c.dl <= best_area + AREA_TOL)
-            .filter(|(_, c)| settings.contact_stage || c.w * c.dl < best_area - AREA_TOL)
-            .min_by(|a, b| {
-                let (ka, kb) = (key(a.1), key(b.1));
-                ka.0.cmp(&kb.0)
-                    .then(ka.1.cmp(&kb.1))
-                    .then(ka.2.total_cmp(&kb.2))
-                    .then(ka.3.total_cmp(&kb.3))
-            })
-            .map(|(k, _)| k);
-        let Some(k) = next else { break };
-        if left(settings) <= 0.0 || stop.should_stop() {
-            break;
-        }
-        let (w, tries) = (cands[k].w, cands[k].tries);
-        // Each visit is capped so one hard width cannot take the whole limit; a capped
-        // candidate keeps its dual bound and is revisited with four times the cap.
-        let cap = (base_cap * 4f64.powi(tries as i32)).min(left(settings));
-        let incumbent_cut = floor_depth(best_area / w + 1e-12).min(cd);
-        // Cut one depth step above the proven bound (or the incumbent's, if lower): the grid
-        // stays small, "optimal" closes the candidate, "infeasible" lifts its bound two steps.
-        let i = depths.partition_point(|&t| t < cands[k].dl - DEPTH_TOL);
-        let d_cut = depths.get(i + CUT_WINDOW).copied().unwrap_or(cd).min(incumbent_cut);
-        let t_visit = start.elapsed().as_secs_f64();
-        let res = depth_milp(inst, &fps, w, d_cut, &best, cap, settings.seed, abs_gap)?;
-        let dl_before = cands[k].dl;
-        match res {
-            None => {
-                // Some object has no position inside w × d_cut.
-                cands[k].dl = cands[k].dl.max(above(d_cut));
-            }
-            Some((solved, sol, form)) => {
-                milps += 1;
-                nodes += solved.nodes;
-                let dual = if solved.dual_bound.is_finite() {
-                    ceil_depth(solved.dual_bound)
-                } else {
-                    0.0
-                };
-                if std::env::var_os("PUSHPACK_DEBUG").is_some() {
-                    eprintln!(
-                        "milp[{form}] w={w:.4} try {tries} cap {cap:.1}s bound {:.6} cut={d_cut:.4}: {:?} obj {:.5} dual {:.5} (rounded {dual:.4}) nodes {} {:.2}s t={:.2}",
-                        w * dl_before,
-                        solved.status,
-                        solved.objective,
-                        solved.dual_bound,
-                        solved.nodes,
-                        start.elapsed().as_secs_f64() - t_visit,
-                        start.elapsed().as_secs_f64()
-                    );
-                }
-                let valid = |p: &Placement| p.violations(inst).iter().all(|v| v.contains("BL-stable"));
-                if let Some(p) = sol.as_ref().filter(|p| valid(p)) {
-                    let q = compact(p);
-                    let area = q.occupied_area();
-                    if area < best_area - AREA_TOL {
-                        best = q.clone();
-                        best_area = area;
-                    }
-                    // The mirror closes the transposed candidate, whose tie visit would
-                    // otherwise ask HiGHS what is already known.
-                    for r in with_mirror(q) {
-                        close_with(&mut cands, r.extent());
-                        if area <= best_area + AREA_TOL {
-                            solutions.push(r);
-                        }
-                    }
-                }
-                match solved.status {
-                    HighsModelStatus::Optimal => {
-                        cands[k].dl = cands[k].dl.max(dual);
-                        if dual >= solved.objective - DEPTH_TOL {
-                            cands[k].solved = true;
-                        } else {
-                            // HiGHS stopped within its gap but the rounded bound does not close
-                            // it (numerical trouble): keep the bound, never claim the candidate.
-                            cands[k].given_up = true;
-                        }
-                    }
-                    HighsModelStatus::Infeasible | HighsModelStatus::UnboundedOrInfeasible => {
-                        cands[k].dl = cands[k].dl.max(above(d_cut));
-                    }
-                    _ => {
-                        cands[k].dl = cands[k].dl.max(dual);
-                        if sol.as_ref().is_some_and(valid) && solved.objective <= cands[k].dl + DEPTH_TOL {
-                            // Stopped, but its solution already meets the proven bound.
-                            cands[k].solved = true;
-                        } else {
-                            cands[k].tries += 1;
-                        }
-                    }
-                }
-            }
-        }
-        if !cands[k].solved && cands[k].tries == tries && cands[k].dl <= dl_before {
-            // No progress (only at the container's depth limit): never revisit in a loop.
-            cands[k].given_up = true;
-        }
-        propagate(&mut cands, k, transposable, &above, &below);
-    }
-    // What is proven: every candidate not solved contributes its bound w · D_lower(w); solved
-    // candidates are no smaller than the incumbent.
-    let lower_bound = cands
-        .iter()
-        .filter(|c| !c.solved)
-        .map(|c| c.w * c.dl)
-        .fold(best_area, f64::min)
-        .max(sum_min_area.min(best_area));
-    let area_optimal = lower_bound >= best_area - AREA_TOL;
-    // Every extent reaching the optimal area is known only when no candidate tied with it is open.
-    let ties_closed = !cands.iter().any(|c| !c.solved && c.w * c.dl <= best_area + AREA_TOL);
     let mut contact_optimal = false;
     if settings.contact_stage && left(settings) > 0.0 && !stop.should_stop() {
         // Every distinct extent pair reaching the optimal area gets its own contact stage.
@@ -1085,10 +802,38 @@ pub fn solve(
                 let f = p.extent();
                 (f.0 - e.0).abs() <= 1e-9 && (f.1 - e.1).abs() <= 1e-9
             });
+            // Enumeration first: in a box of the optimal area packings are few. It gets the
+            // area stage's time (at least a second); the MILP gets what remains of it.
+            // `PUSHPACK_CONTACT_BUDGET` (seconds) overrides it, for measurements only
+            // (docs/benchmarks.md).
+            let deadline = std::env::var("PUSHPACK_CONTACT_BUDGET")
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(area_stage_s.max(1.0));
+            let contact_left = || (deadline - (start.elapsed().as_secs_f64() - area_stage_s)).min(left(settings));
+            let halt_contact = || stop.should_stop() || contact_left() <= 0.0;
+            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, best_contact, &halt_contact);
+            nodes += n_enum;
+            if let Some(p) = &enum_best {
+                let c = p.contact_length(inst);
+                if c > best_contact + 1e-9 && p.occupied_area() <= best_area + 1e-12 {
+                    best = p.clone();
+                    best_contact = c;
+                }
+            }
+            if complete {
+                done.push((e, true));
+                continue;
+            }
+            if contact_left() <= 0.0 {
+                all_optimal = false;
+                continue;
+            }
+            let warm_p = enum_best.as_ref().or(warm_p);
             let res = if GridModel::size(inst, &fps, e.0, e.1) <= grid_max_nnz() {
-                grid_contact_stage(inst, &fps, e, warm_p, left(settings), settings.seed)?
+                grid_contact_stage(inst, &fps, e, warm_p, contact_left(), settings.seed)?
             } else if let Some(wp) = warm_p {
-                contact_stage(inst, &fps, wp, left(settings), settings.seed)?
+                contact_stage(inst, &fps, wp, contact_left(), settings.seed)?
             } else {
                 None
             };
@@ -1110,12 +855,14 @@ pub fn solve(
         contact_optimal = all_optimal;
     }
     debug_assert!(is_bl_stable(&best.targets));
+    report.contact_stage_s = start.elapsed().as_secs_f64() - area_stage_s;
+    report.contact_optimal = contact_optimal;
     let status = if area_optimal && contact_optimal {
         PlacementStatus::Optimal
     } else {
         PlacementStatus::Feasible
     };
-    Ok(PlacementResult {
+    let result = PlacementResult {
         placement: best,
         status,
         lower_bound: if area_optimal { best_area } else { lower_bound },
@@ -1123,7 +870,8 @@ pub fn solve(
         time_s: start.elapsed().as_secs_f64() + warm.time_s,
         nodes,
         subproblems: milps,
-    })
+    };
+    Ok((result, report))
 }
 
 /// Second stage on the normal-pattern grid: maximise contact length inside extents `(w, d)`

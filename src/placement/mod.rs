@@ -4,8 +4,10 @@
 //! objective is lexicographic: minimum [`Placement::occupied_area`], then maximum
 //! [`Placement::contact_length`]. Solvers: [`bl`] (the paper's extended Bottom-Left).
 
+pub mod area;
 pub mod bl;
 pub mod milp;
+pub mod opp;
 
 use crate::geometry::{Axis2, Orientation, Rect, EPS};
 use crate::instance::Instance;

@@ -39,17 +39,38 @@ pub fn solve_placement(
     bl_orders: usize,
     time_limit: f64,
 ) -> Result<PlacementResult> {
+    solve_placement_report(inst, solver, seed, bl_orders, time_limit).map(|(r, _)| r)
+}
+
+/// [`solve_placement`], with the exact solver's report (bound over time, stage costs).
+pub fn solve_placement_report(
+    inst: &Instance,
+    solver: PlacementSolver,
+    seed: u64,
+    bl_orders: usize,
+    time_limit: f64,
+) -> Result<(PlacementResult, Option<placement::milp::MilpReport>)> {
     let limit = TimeLimit::new(time_limit);
-    let bl = placement::bl::solve(inst, seed, bl_orders, &limit)?;
+    let bl = placement::bl::solve(inst, seed, bl_orders, &limit);
     match solver {
-        PlacementSolver::Bl => Ok(bl),
+        PlacementSolver::Bl => bl.map(|r| (r, None)),
         PlacementSolver::Milp => {
             let settings = placement::milp::MilpSettings {
                 time_limit: (time_limit - limit.elapsed()).max(0.0),
                 contact_stage: true,
                 seed,
             };
-            placement::milp::solve(inst, &bl, &settings, &limit)
+            // Bottom-Left finding nothing proves nothing: the exact search starts without it.
+            let warm = bl.unwrap_or_else(|_| PlacementResult {
+                placement: placement::Placement { targets: Vec::new() },
+                status: placement::PlacementStatus::Feasible,
+                lower_bound: 0.0,
+                solver: "bl".into(),
+                time_s: limit.elapsed(),
+                nodes: 0,
+                subproblems: 0,
+            });
+            placement::milp::solve_report(inst, &warm, &settings, &limit).map(|(r, rep)| (r, Some(rep)))
         }
     }
 }

@@ -1,0 +1,121 @@
+//! Exact placement on the consecutive squares 1×1 … N×N (OEIS A038666), upright, in a container
+//! that never binds (sides = 1 + 2 + … + N) and in the tight container (exactly the optimal box).
+//!
+//! Not a criterion bench: it reports per N the optimum found, whether the area and the contact
+//! stage are proven, and the seconds of each stage (median over `--repeat` runs; the machine is
+//! noisy). Run:
+//!
+//! ```sh
+//! cargo bench --bench placement_squares -- [--from 1] [--to 22] [--time-limit 60] [--repeat 3] [--tight]
+//! ```
+
+use pushpack::control::TimeLimit;
+use pushpack::instance::Instance;
+use pushpack::placement::{milp, Placement, PlacementResult, PlacementStatus};
+
+mod common;
+use common::{arg, median};
+
+/// OEIS A038666, n = 1 … 22 (minimum area of a rectangle holding squares 1 … n).
+const A038666: [u32; 22] = [
+    1, 6, 15, 35, 60, 99, 154, 210, 300, 405, 513, 667, 836, 1035, 1265, 1512, 1794, 2139, 2491, 2890, 3344, 3822,
+];
+
+/// Squares 1 … n in 2 mm units, container `c` units (default: never binds).
+fn squares_text(n: u32, c: Option<(u32, u32)>) -> String {
+    const U: u32 = 2;
+    let s = n * (n + 1) / 2;
+    let (cw, cd) = c.unwrap_or((s, s));
+    let (cw, cd) = (cw * U, cd * U);
+    let mut t = format!(
+        "format_version = 1\nname = \"squares-{n}\"\nunits = \"mm\"\n[container]\nwidth = {cw}\ndepth = {cd}\n\
+         wall_height = 60\nwall_thickness = 5\ncenter = [{}, 0]\n[friction]\nmu_floor = 0.35\nmu_obj = 0.4\n\
+         mu_finger = 0.6\n[gripper]\nfinger_thickness = 10\nfinger_width = 20\nfinger_length = 60\n\
+         max_opening = 90\ngrasp_depth = 15\nrelease_clearance = 5\n",
+        300.0 + f64::from(cw) / 2.0
+    );
+    for i in 1..=n {
+        t += &format!(
+            "[[kinds]]\nname = \"s{i}\"\nsize = [{}, {}, 30]\nmass = 0.05\n",
+            i * U,
+            i * U
+        );
+    }
+    for k in 0..n {
+        let y = if (k / 2) % 2 == 1 { 1 } else { -1 } * (60 + 60 * (k / 4) as i32);
+        t += &format!(
+            "[[objects]]\nid = \"o{}\"\nkind = \"s{}\"\nx = {}\ny = {y}\norientations = \"upright\"\n",
+            k + 1,
+            k + 1,
+            200 + 60 * (k % 2)
+        );
+    }
+    t
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let from: u32 = arg(&args, "--from", 1);
+    let to: u32 = arg(&args, "--to", 22);
+    let limit: f64 = arg(&args, "--time-limit", 60.0);
+    let repeat: usize = arg(&args, "--repeat", 3);
+    let tight = args.iter().any(|a| a == "--tight");
+    println!("| N | A038666 | area found | area proven | contact proven | area stage (s, median) | contact stage (s, median) | boxes (searched) |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for n in from..=to.min(22) {
+        let want = A038666[n as usize - 1];
+        // The tight container: the optimal box, found by the unconstrained run.
+        let mut text = squares_text(n, None);
+        if tight {
+            let inst = Instance::parse(&text, false, "<bench>", None).expect("valid");
+            let r = run(&inst, limit).0;
+            let (w, d) = r.placement.extent();
+            text = squares_text(n, Some(((w / 0.002).round() as u32, (d / 0.002).round() as u32)));
+        }
+        let inst = Instance::parse(&text, false, "<bench>", None).expect("valid");
+        let mut area_s = Vec::new();
+        let mut contact_s = Vec::new();
+        let mut last = None;
+        for _ in 0..repeat {
+            let (r, rep) = run(&inst, limit);
+            assert!(r.placement.violations(&inst).is_empty(), "N={n}: invalid placement");
+            area_s.push(rep.area_stage_s);
+            contact_s.push(rep.contact_stage_s);
+            last = Some((r, rep));
+        }
+        let (r, rep) = last.expect("repeat ≥ 1");
+        let units = (r.placement.occupied_area() / 4e-6).round() as u32;
+        println!(
+            "| {n} | {want} | {units}{} | {} | {} | {:.3} | {:.3} | {} ({}) |",
+            if units == want { "" } else { " (differs)" },
+            if rep.area_optimal { "yes" } else { "no" },
+            if r.status == PlacementStatus::Optimal {
+                "yes"
+            } else {
+                "no"
+            },
+            median(&area_s),
+            median(&contact_s),
+            rep.boxes,
+            rep.boxes_searched
+        );
+    }
+}
+
+fn run(inst: &Instance, limit: f64) -> (PlacementResult, milp::MilpReport) {
+    let none = PlacementResult {
+        placement: Placement { targets: Vec::new() },
+        status: PlacementStatus::Feasible,
+        lower_bound: 0.0,
+        solver: "none".into(),
+        time_s: 0.0,
+        nodes: 0,
+        subproblems: 0,
+    };
+    let s = milp::MilpSettings {
+        time_limit: limit,
+        contact_stage: true,
+        seed: 1,
+    };
+    milp::solve_report(inst, &none, &s, &TimeLimit::new(limit)).expect("squares always fit the loose container")
+}

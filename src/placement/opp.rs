@@ -1,0 +1,705 @@
+//! Exact decision of the two-dimensional orthogonal packing problem (OPP): do the objects fit
+//! in a `w × d` box, each in one of its footprints, without overlap?
+//!
+//! Cheap bounds first ([`refuted_by_bounds`]): every object fits, total area, objects too wide
+//! (or too deep) to sit side by side stack, and the dual-feasible-function bounds of Fekete and
+//! Schepers (2004). Then an exact search in two phases, after Simonis and O'Sullivan (2008) and
+//! Huang and Korf (2013): x-coordinates first under the cumulative ("bar") relaxation in y, then
+//! y-coordinates for each complete x-assignment. The split is the one of the combinatorial
+//! Benders decomposition of Côté, Dell'Amico and Iori (2014) — a one-dimensional master with a
+//! check of the other coordinate — with the master searched combinatorially.
+//!
+//! Why it is exact (docs/algorithms.md, "Exact placement"): any packing compacts (slid down and
+//! left until nothing moves) into one in the same box where every object touches the left wall
+//! or an object on its left, and the floor or an object below it. Take the objects in the order
+//! of their left edges: each one starts at 0 or at the right edge of an object taken before it.
+//! The x-phase enumerates exactly these sequences (ties by index), so it meets the compacted
+//! packing's x-coordinates; likewise the y-phase, in the order of bottom edges, puts each object
+//! on the highest top below it, which is where the compacted packing has it. Pruning only
+//! removes branches that no packing completes (the area of the objects still to place plus the
+//! space already left behind exceeds the box; a column whose objects cannot stack), or that a
+//! relabelling or mirror image of a packing they keep covers (identical objects in index order;
+//! the first object of the largest class in the left half and the lower half — mirroring a
+//! compacted packing and compacting it again moves nothing right or up).
+
+use std::cell::Cell;
+use std::collections::HashMap;
+
+/// An x-phase state: placed set, position, (end, depth) of the placed objects still open; lengths
+/// in units of the tolerance.
+type StateKey = (u64, i64, Vec<(i64, i64)>);
+
+/// Most x-phase states remembered as dead per box (about 100 bytes each).
+const DEAD_MAX: usize = 2_000_000;
+
+/// One object: its distinct footprints `[x-extent, y-extent]`, and its class (objects of one
+/// class are interchangeable: same footprints).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Item {
+    /// Distinct footprints.
+    pub opts: Vec<[f64; 2]>,
+    /// Objects with equal class are identical.
+    pub class: usize,
+}
+
+/// Where one object goes: footprint index and lower-left corner.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pos {
+    /// Index into [`Item::opts`].
+    pub opt: usize,
+    /// Left edge.
+    pub x: f64,
+    /// Bottom edge.
+    pub y: f64,
+}
+
+/// Result of one decision.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// A packing, one position per item.
+    Packed(Vec<Pos>),
+    /// Proven: no packing exists.
+    Infeasible,
+    /// Stopped before a proof either way.
+    Stopped,
+}
+
+/// Comparison tolerance for a box of size `w × d`: far below any size step, far above rounding.
+fn tol(w: f64, d: f64) -> f64 {
+    1e-9 * (1.0 + w + d)
+}
+
+/// The footprints of `it` that fit in `w × d`.
+fn fitting(it: &Item, w: f64, d: f64) -> impl Iterator<Item = [f64; 2]> + '_ {
+    let t = tol(w, d);
+    it.opts.iter().copied().filter(move |f| f[0] <= w + t && f[1] <= d + t)
+}
+
+/// Dual-feasible functions for capacity `c` (Fekete and Schepers 2004): each maps sizes so that
+/// any set of sizes summing to at most `c` still sums to at most `c`, and `c` to `c`. Hence for
+/// any pair (one per axis) the transformed areas of a packing still fit in `c_x · c_y`.
+fn dffs(c: f64, sizes: &[f64]) -> Vec<Box<dyn Fn(f64) -> f64>> {
+    let t = 1e-9 * (1.0 + c);
+    let mut out: Vec<Box<dyn Fn(f64) -> f64>> = vec![Box::new(|x| x)];
+    // U^ε: sizes above c − ε become c (two of them never share a line), below ε vanish.
+    let mut eps: Vec<f64> = sizes.iter().copied().filter(|&s| s <= c / 2.0 + t && s > t).collect();
+    eps.sort_by(f64::total_cmp);
+    eps.dedup_by(|a, b| (*a - *b).abs() <= t);
+    for e in eps {
+        out.push(Box::new(move |x| {
+            if x > c - e + t {
+                c
+            } else if x < e - t {
+                0.0
+            } else {
+                x
+            }
+        }));
+    }
+    // u^(k): round (k+1)x/c down to an integer, unless it is one already.
+    for k in 1..=4 {
+        let q = (k + 1) as f64;
+        out.push(Box::new(move |x| {
+            let r = q * x / c;
+            if (r - r.round()).abs() <= 1e-9 * q {
+                x
+            } else {
+                r.floor() * c / k as f64
+            }
+        }));
+    }
+    out
+}
+
+/// True when a bound proves that the items do not fit in `w × d`.
+pub fn refuted_by_bounds(items: &[Item], w: f64, d: f64) -> bool {
+    let t = tol(w, d);
+    let fits: Vec<Vec<[f64; 2]>> = items.iter().map(|it| fitting(it, w, d).collect()).collect();
+    if fits.iter().any(|f| f.is_empty()) {
+        return true;
+    }
+    let area: f64 = fits
+        .iter()
+        .map(|f| f.iter().map(|g| g[0] * g[1]).fold(f64::INFINITY, f64::min))
+        .sum();
+    if area > w * d + t * (w + d) {
+        return true;
+    }
+    // Objects wider than w/2 in every fitting footprint stack in y (and the transpose).
+    for axis in 0..2 {
+        let (cap, other) = if axis == 0 { (w, d) } else { (d, w) };
+        let stack: f64 = fits
+            .iter()
+            .filter(|f| f.iter().all(|g| g[axis] > cap / 2.0 + t))
+            .map(|f| f.iter().map(|g| g[1 - axis]).fold(f64::INFINITY, f64::min))
+            .sum();
+        if stack > other + t {
+            return true;
+        }
+    }
+    let xs: Vec<f64> = fits.iter().flatten().map(|g| g[0]).collect();
+    let ys: Vec<f64> = fits.iter().flatten().map(|g| g[1]).collect();
+    let (fx, fy) = (dffs(w, &xs), dffs(d, &ys));
+    for f in &fx {
+        for g in &fy {
+            let s: f64 = fits
+                .iter()
+                .map(|o| o.iter().map(|q| f(q[0]) * g(q[1])).fold(f64::INFINITY, f64::min))
+                .sum();
+            if s > w * d + t * (w + d) {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// What enumeration hands each packing to; `true` stops it.
+pub type Visitor<'a> = dyn FnMut(&[Pos]) -> bool + 'a;
+
+/// The exact search for one box.
+pub struct Search<'a> {
+    items: &'a [Item],
+    w: f64,
+    d: f64,
+    t: f64,
+    stop: &'a dyn Fn() -> bool,
+    /// Search nodes visited (both phases).
+    pub nodes: u64,
+    stopped: bool,
+    /// Previous item of the same class (identical objects are placed in index order).
+    prev_same: Vec<Option<usize>>,
+    /// Least area of each item among its fitting footprints.
+    min_area: Vec<f64>,
+    /// Least depth of each item among its fitting footprints.
+    min_depth: Vec<f64>,
+    /// First item of the largest class, kept in the lower-left quarter (mirror symmetry).
+    anchor: Option<usize>,
+    /// Per item: chosen footprint and left edge in the x-phase.
+    opt: Vec<usize>,
+    x0: Vec<f64>,
+    placed: Vec<bool>,
+    y0: Vec<f64>,
+    /// x-phase states (position, placed set, free-depth profile ahead) proven to have no
+    /// complete x-assignment, with the least waste at which that was shown.
+    dead: HashMap<StateKey, f64>,
+    /// Complete x-assignments handed to the y-phase so far.
+    yleaves: u64,
+    /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
+    /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
+    visit: Option<&'a mut Visitor<'a>>,
+    dead_enabled: bool,
+    /// Contact pruning (enumeration for the contact stage): branches whose contact-length upper
+    /// bound does not beat this value are cut.
+    cbound: Option<&'a Cell<f64>>,
+    /// The box reaches the container's far walls (x = its width, y = its depth), which then
+    /// count as contact.
+    far: [bool; 2],
+    /// Left sides of placed items that cannot be in full contact, summed (x-phase).
+    ldef: f64,
+    /// Bottom sides of items placed in the y-phase not in contact, summed.
+    ydef: f64,
+    /// Contact bound of the current complete x-assignment.
+    ub_x: f64,
+    /// Branches cut by the contact bound.
+    cpruned: u64,
+}
+
+impl<'a> Search<'a> {
+    /// Enumerate packings in `w × d` (each at most once, every one whose objects all touch
+    /// something on their left and below among them) into `visit`. With `bound`, only packings
+    /// whose contact length (objects, the walls x = 0 and y = 0, and the far walls where `far`
+    /// says the box reaches them) may exceed it are guaranteed to be visited; the visitor may
+    /// raise it. Returns whether the enumeration finished (`false`: stopped by `stop`).
+    pub fn enumerate(
+        items: &'a [Item],
+        w: f64,
+        d: f64,
+        stop: &'a dyn Fn() -> bool,
+        visit: &'a mut Visitor<'a>,
+        bound: Option<&'a Cell<f64>>,
+        far: [bool; 2],
+    ) -> (bool, u64) {
+        let mut s = Search::new(items, w, d, stop);
+        s.anchor = None;
+        s.visit = Some(visit);
+        s.cbound = bound;
+        s.far = far;
+        let complete = matches!(s.run(), Outcome::Infeasible);
+        (complete, s.nodes)
+    }
+
+    /// A search for `items` in `w × d`; `stop` is polled now and then.
+    pub fn new(items: &'a [Item], w: f64, d: f64, stop: &'a dyn Fn() -> bool) -> Self {
+        let n = items.len();
+        let t = tol(w, d);
+        let prev_same: Vec<Option<usize>> = (0..n)
+            .map(|i| (0..i).rev().find(|&j| items[j].class == items[i].class))
+            .collect();
+        let min_area: Vec<f64> = items
+            .iter()
+            .map(|it| fitting(it, w, d).map(|g| g[0] * g[1]).fold(f64::INFINITY, f64::min))
+            .collect();
+        let min_depth: Vec<f64> = items
+            .iter()
+            .map(|it| fitting(it, w, d).map(|g| g[1]).fold(f64::INFINITY, f64::min))
+            .collect();
+        // The anchor is the first item of the class with the largest single area: mirroring
+        // keeps footprints, so the bound below uses its narrowest fitting footprint.
+        let anchor = (0..n)
+            .filter(|&i| prev_same[i].is_none() && min_area[i].is_finite())
+            .max_by(|&a, &b| min_area[a].total_cmp(&min_area[b]));
+        Search {
+            items,
+            w,
+            d,
+            t,
+            stop,
+            nodes: 0,
+            stopped: false,
+            prev_same,
+            min_area,
+            min_depth,
+            anchor,
+            opt: vec![0; n],
+            x0: vec![0.0; n],
+            placed: vec![false; n],
+            y0: vec![0.0; n],
+            visit: None,
+            dead: HashMap::new(),
+            yleaves: 0,
+            dead_enabled: true,
+            cbound: None,
+            far: [false; 2],
+            ldef: 0.0,
+            ydef: 0.0,
+            ub_x: 0.0,
+            cpruned: 0,
+        }
+    }
+
+    /// Decide the box.
+    pub fn run(&mut self) -> Outcome {
+        if self.items.len() > 64 {
+            // The state key is a 64-bit set; so large an instance is out of reach anyway.
+            self.dead_enabled = false;
+        }
+        if refuted_by_bounds(self.items, self.w, self.d) {
+            return Outcome::Infeasible;
+        }
+        let rem: f64 = self.min_area.iter().sum();
+        if self.xphase(0.0, 0, 0.0, rem, 0.0) {
+            return Outcome::Packed(
+                (0..self.items.len())
+                    .map(|i| Pos {
+                        opt: self.opt[i],
+                        x: self.x0[i],
+                        y: self.y0[i],
+                    })
+                    .collect(),
+            );
+        }
+        if self.stopped {
+            Outcome::Stopped
+        } else {
+            Outcome::Infeasible
+        }
+    }
+
+    fn tick(&mut self) -> bool {
+        self.nodes += 1;
+        if self.nodes & 1023 == 0 && (self.stop)() {
+            self.stopped = true;
+        }
+        self.stopped
+    }
+
+    fn dims(&self, i: usize) -> [f64; 2] {
+        self.items[i].opts[self.opt[i]]
+    }
+
+    /// Largest left edge the anchor may take with its narrowest fitting footprint.
+    fn anchor_limit(&self, axis: usize) -> f64 {
+        let cap = if axis == 0 { self.w } else { self.d };
+        let a = self.anchor.expect("anchor exists when items do");
+        let least = fitting(&self.items[a], self.w, self.d)
+            .map(|g| g[axis])
+            .fold(f64::INFINITY, f64::min);
+        (cap - least) / 2.0 + self.t
+    }
+
+    /// Free depth from `t` on, column by column: an object of depth `h` fits only in columns
+    /// with at least `h` free, so the objects of least depth at least `h` (their least areas)
+    /// must fit in those columns' free area, for every such `h`.
+    fn capacity_refutes(&self, t: f64) -> bool {
+        let n = self.items.len();
+        let mut ends: Vec<(f64, f64)> = (0..n)
+            .filter(|&j| self.placed[j])
+            .map(|j| (self.x0[j] + self.dims(j)[0], self.dims(j)[1]))
+            .filter(|&(e, _)| e > t + self.t)
+            .collect();
+        ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut load: f64 = ends.iter().map(|e| e.1).sum();
+        let mut pieces: Vec<(f64, f64)> = Vec::with_capacity(ends.len() + 1);
+        let mut x = t;
+        for &(e, h) in &ends {
+            pieces.push((e - x, self.d - load));
+            load -= h;
+            x = e;
+        }
+        pieces.push((self.w - x, self.d));
+        let mut rem: Vec<usize> = (0..n).filter(|&i| !self.placed[i]).collect();
+        rem.sort_by(|&a, &b| self.min_depth[b].total_cmp(&self.min_depth[a]));
+        let tol = self.t * (self.w + self.d);
+        let mut area = 0.0;
+        for &i in &rem {
+            area += self.min_area[i];
+            let h = self.min_depth[i];
+            let avail: f64 = pieces.iter().filter(|p| p.1 >= h - self.t).map(|p| p.0 * p.1).sum();
+            if area > avail + tol {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Contact-length upper bound in the x-phase: every side in full contact except the
+    /// deficits known so far, plus the far walls' lengths.
+    fn contact_ub(&self) -> f64 {
+        let n = self.items.len();
+        let sides: f64 = (0..n)
+            .map(|i| {
+                if self.placed[i] {
+                    let f = self.dims(i);
+                    f[0] + f[1]
+                } else {
+                    fitting(&self.items[i], self.w, self.d)
+                        .map(|g| g[0] + g[1])
+                        .fold(0.0, f64::max)
+                }
+            })
+            .sum();
+        let far = if self.far[0] { self.d } else { 0.0 } + if self.far[1] { self.w } else { 0.0 };
+        sides - self.ldef + far
+    }
+
+    /// x-phase at position `t` (every placed item starts at or before it): place an item at
+    /// `t` (index at least `min_idx`, so that items sharing a left edge come in index order),
+    /// or move `t` to the next right edge, leaving the column's free height unused for good.
+    fn xphase(&mut self, t: f64, min_idx: usize, placed_area: f64, rem_area: f64, waste: f64) -> bool {
+        if self.tick() {
+            return false;
+        }
+        let n = self.items.len();
+        if let Some(cb) = self.cbound {
+            if self.contact_ub() <= cb.get() + 1e-9 {
+                self.cpruned += 1;
+                return false;
+            }
+        }
+        if (0..n).all(|i| self.placed[i]) {
+            return self.ycheck();
+        }
+        let tol = self.t * (self.w + self.d);
+        if placed_area + rem_area + waste > self.w * self.d + tol {
+            return false;
+        }
+        if self.capacity_refutes(t) {
+            return false;
+        }
+        // States reached again by another order of the objects behind `t`: the x-phase ahead
+        // depends only on which objects are placed, where the placed ones end, and how deep they
+        // are — and on the waste so far, which only makes pruning easier. A state whose subtree
+        // failed without reaching the y-phase fails again at no less waste.
+        let key = (min_idx == 0 && self.dead_enabled).then(|| self.state_key(t));
+        if let Some(k) = &key {
+            if self.dead.get(k).is_some_and(|&w0| w0 <= waste + tol) {
+                return false;
+            }
+        }
+        let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
+        let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
+        if let Some(k) = key {
+            if !found
+                && !self.stopped
+                && self.yleaves == leaves_before
+                && self.cpruned == cut_before
+                && self.dead.len() < DEAD_MAX
+            {
+                let e = self.dead.entry(k).or_insert(f64::INFINITY);
+                *e = e.min(waste);
+            }
+        }
+        found
+    }
+
+    /// The memo key of the x-phase state at `t`, lengths in units of the tolerance.
+    fn state_key(&self, t: f64) -> StateKey {
+        let q = |v: f64| (v / self.t).round() as i64;
+        let n = self.items.len();
+        let mut mask = 0u64;
+        let mut active = Vec::new();
+        for j in 0..n {
+            if self.placed[j] {
+                mask |= 1 << j;
+                let e = self.x0[j] + self.dims(j)[0];
+                if e > t + self.t {
+                    active.push((q(e), q(self.dims(j)[1])));
+                }
+            }
+        }
+        active.sort_unstable();
+        (mask, q(t), active)
+    }
+
+    /// The branches of [`Self::xphase`] at `t`.
+    fn xbranch(&mut self, t: f64, min_idx: usize, placed_area: f64, rem_area: f64, waste: f64) -> bool {
+        let n = self.items.len();
+        let load: f64 = (0..n)
+            .filter(|&j| self.placed[j] && self.x0[j] + self.dims(j)[0] > t + self.t)
+            .map(|j| self.dims(j)[1])
+            .sum();
+        let cap = self.d - load;
+        for i in min_idx..n {
+            if self.placed[i] || self.prev_same[i].is_some_and(|p| !self.placed[p]) {
+                continue;
+            }
+            if Some(i) == self.anchor && t > self.anchor_limit(0) {
+                continue;
+            }
+            for k in 0..self.items[i].opts.len() {
+                let f = self.items[i].opts[k];
+                if f[0] > self.w - t + self.t || f[1] > cap + self.t {
+                    continue;
+                }
+                // Its left side touches only objects ending at `t` (all placed) or the wall.
+                let left = if t <= self.t {
+                    f[1]
+                } else {
+                    let h: f64 = (0..n)
+                        .filter(|&j| self.placed[j] && (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t)
+                        .map(|j| self.dims(j)[1])
+                        .sum();
+                    h.min(f[1])
+                };
+                self.placed[i] = true;
+                self.opt[i] = k;
+                self.x0[i] = t;
+                self.ldef += f[1] - left;
+                let a = f[0] * f[1];
+                let found = self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste);
+                self.ldef -= f[1] - left;
+                if found {
+                    return true;
+                }
+                self.placed[i] = false;
+                if self.stopped {
+                    return false;
+                }
+            }
+        }
+        // Advance to the next right edge: nothing placed later starts before it.
+        let next = (0..n)
+            .filter(|&j| self.placed[j])
+            .map(|j| self.x0[j] + self.dims(j)[0])
+            .filter(|&e| e > t + self.t)
+            .fold(f64::INFINITY, f64::min);
+        if !next.is_finite() || next > self.w - self.t {
+            return false;
+        }
+        if let Some(a) = self.anchor {
+            if !self.placed[a] && next > self.anchor_limit(0) {
+                return false;
+            }
+        }
+        self.xphase(next, 0, placed_area, rem_area, waste + (next - t) * cap)
+    }
+
+    /// y-phase for the current x-assignment.
+    fn ycheck(&mut self) -> bool {
+        self.yleaves += 1;
+        let n = self.items.len();
+        let mut done = vec![false; n];
+        let mut top = vec![0.0; n];
+        self.ub_x = self.contact_ub();
+        self.ydef = 0.0;
+        self.yphase(&mut done, &mut top, 0.0, 0)
+    }
+
+    /// Items go in the order of their bottom edges, each onto the highest top of the placed
+    /// items that overlap it in x (ties of equal bottom in index order).
+    fn yphase(&mut self, done: &mut [bool], top: &mut [f64], last_y: f64, last_idx: usize) -> bool {
+        if self.tick() {
+            return false;
+        }
+        let n = self.items.len();
+        let xr = |s: &Self, i: usize| (s.x0[i], s.x0[i] + s.dims(i)[0]);
+        let overlap = |s: &Self, i: usize, j: usize| {
+            let (a0, a1) = xr(s, i);
+            let (b0, b1) = xr(s, j);
+            a1.min(b1) - a0.max(b0) > s.t
+        };
+        if done.iter().all(|&b| b) {
+            if let Some(v) = self.visit.as_mut() {
+                let pos: Vec<Pos> = (0..n)
+                    .map(|i| Pos {
+                        opt: self.opt[i],
+                        x: self.x0[i],
+                        y: self.y0[i],
+                    })
+                    .collect();
+                if v(&pos) {
+                    // The visitor has what it needs: stop like a limit would.
+                    self.stopped = true;
+                }
+                return false;
+            }
+            return true;
+        }
+        // Each unplaced item sits above every placed item that covers its left edge, under
+        // every other unplaced item covering it: they must stack within d.
+        let mut floor = vec![0.0; n];
+        for i in 0..n {
+            if done[i] {
+                continue;
+            }
+            let x = self.x0[i];
+            let covers = |s: &Self, j: usize| {
+                let (b0, b1) = xr(s, j);
+                b0 <= x + s.t && b1 > x + s.t
+            };
+            let base = (0..n)
+                .filter(|&j| done[j] && covers(self, j))
+                .map(|j| top[j])
+                .fold(0.0, f64::max);
+            let stack: f64 = (0..n)
+                .filter(|&j| !done[j] && covers(self, j))
+                .map(|j| self.dims(j)[1])
+                .sum();
+            if base + stack > self.d + self.t {
+                return false;
+            }
+            floor[i] = (0..n)
+                .filter(|&j| done[j] && overlap(self, i, j))
+                .map(|j| top[j])
+                .fold(0.0, f64::max);
+            if floor[i] + self.dims(i)[1] > self.d + self.t {
+                return false;
+            }
+        }
+        for i in 0..n {
+            if done[i] {
+                continue;
+            }
+            let y = floor[i];
+            if y < last_y - self.t || ((y - last_y).abs() <= self.t && i < last_idx) {
+                continue;
+            }
+            // Identical items with the same x-interval are interchangeable: index order.
+            if (0..i).any(|j| {
+                !done[j]
+                    && self.items[j].class == self.items[i].class
+                    && self.opt[j] == self.opt[i]
+                    && (self.x0[j] - self.x0[i]).abs() <= self.t
+            }) {
+                continue;
+            }
+            // The lowest item of the anchor's class (any copy) in the lower half.
+            if self.anchor.is_some_and(|a| self.items[a].class == self.items[i].class)
+                && y > self.anchor_limit(1)
+                && !(0..n).any(|j| done[j] && self.items[j].class == self.items[i].class)
+            {
+                continue;
+            }
+            // Bottom side in contact: with the floor, or with the placed tops at `y`.
+            let wi = self.dims(i)[0];
+            let bottom = if y <= self.t {
+                wi
+            } else {
+                (0..n)
+                    .filter(|&j| done[j] && (top[j] - y).abs() <= self.t)
+                    .map(|j| {
+                        let (a0, a1) = xr(self, i);
+                        let (b0, b1) = xr(self, j);
+                        (a1.min(b1) - a0.max(b0)).max(0.0)
+                    })
+                    .sum::<f64>()
+                    .min(wi)
+            };
+            if let Some(cb) = self.cbound {
+                if self.ub_x - self.ydef - (wi - bottom) <= cb.get() + 1e-9 {
+                    self.cpruned += 1;
+                    continue;
+                }
+            }
+            done[i] = true;
+            top[i] = y + self.dims(i)[1];
+            self.y0[i] = y;
+            self.ydef += wi - bottom;
+            let found = self.yphase(done, top, y, i);
+            self.ydef -= wi - bottom;
+            if found {
+                return true;
+            }
+            done[i] = false;
+            if self.stopped {
+                return false;
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn squares(n: usize) -> Vec<Item> {
+        (1..=n)
+            .rev()
+            .map(|s| Item {
+                opts: vec![[s as f64, s as f64]],
+                class: s,
+            })
+            .collect()
+    }
+
+    fn valid(items: &[Item], p: &[Pos], w: f64, d: f64) -> bool {
+        let r: Vec<[f64; 4]> = p
+            .iter()
+            .zip(items)
+            .map(|(q, it)| {
+                let f = it.opts[q.opt];
+                [q.x, q.y, q.x + f[0], q.y + f[1]]
+            })
+            .collect();
+        r.iter()
+            .all(|a| a[0] >= -1e-9 && a[1] >= -1e-9 && a[2] <= w + 1e-9 && a[3] <= d + 1e-9)
+            && (0..r.len()).all(|i| {
+                (i + 1..r.len()).all(|j| {
+                    let (a, b) = (r[i], r[j]);
+                    a[2].min(b[2]) - a[0].max(b[0]) <= 1e-9 || a[3].min(b[3]) - a[1].max(b[1]) <= 1e-9
+                })
+            })
+    }
+
+    #[test]
+    fn squares_one_to_eight_fit_fourteen_by_fifteen_not_smaller() {
+        let it = squares(8);
+        let never = || false;
+        match Search::new(&it, 14.0, 15.0, &never).run() {
+            Outcome::Packed(p) => assert!(valid(&it, &p, 14.0, 15.0)),
+            o => panic!("expected a packing, got {o:?}"),
+        }
+        // 13 × 16 = 208 < 210: the optimum is 210 (OEIS A038666).
+        assert_eq!(Search::new(&it, 13.0, 16.0, &never).run(), Outcome::Infeasible);
+        assert_eq!(Search::new(&it, 12.0, 17.0, &never).run(), Outcome::Infeasible);
+    }
+
+    #[test]
+    fn bounds_refute_only_what_cannot_fit() {
+        let it = squares(3);
+        assert!(refuted_by_bounds(&it, 4.0, 3.0));
+        assert!(!refuted_by_bounds(&it, 5.0, 3.0));
+    }
+}
