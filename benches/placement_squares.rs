@@ -13,6 +13,7 @@ use pushpack::control::TimeLimit;
 use pushpack::instance::Instance;
 use pushpack::placement::{milp, Placement, PlacementResult, PlacementStatus};
 
+#[allow(dead_code)] // shared helpers: this bench uses two of them
 mod common;
 use common::{arg, median};
 
