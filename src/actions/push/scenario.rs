@@ -834,6 +834,10 @@ pub struct PhaseReport {
     pub floor: Vec<FloorReport>,
     /// A phase of finite travel whose box would turn: rotation and drift over its travel.
     pub travel: Option<TravelCheck>,
+    /// 3-D: margin of the planar part (no vertical friction; the 2-D margin).
+    pub planar_margin: Option<f64>,
+    /// 3-D: smallest tipping margin over the moving boxes.
+    pub tip_margin: Option<f64>,
 }
 
 /// Robust-mode summary.
@@ -1008,6 +1012,8 @@ fn report(s: &Scenario, model: &PushModel, result: &CheckResult, robust: Option<
                 })
                 .collect(),
             travel: p.travel.clone(),
+            planar_margin: p.planar_margin,
+            tip_margin: p.tip_margin,
         })
         .collect();
     let failure = if result.stable {
@@ -1134,6 +1140,15 @@ impl fmt::Display for PushReport {
             )?;
             if let Some(l) = &p.limited_by {
                 writeln!(f, "    limited by: {l}")?;
+            }
+            if p.planar_margin.is_some() {
+                writeln!(
+                    f,
+                    "    planar margin {}, tipping margin {}",
+                    fmt_m(p.planar_margin),
+                    p.tip_margin
+                        .map_or("none (solver failed)".to_string(), |m| format!("{m:.6} m"))
+                )?;
             }
             if let Some(t) = &p.travel {
                 writeln!(
