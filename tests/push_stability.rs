@@ -58,13 +58,15 @@ fn centred_single_push_is_stable_with_positive_margin() {
         );
         assert!(r.failure.is_none());
         // The certificate: the finger carries the box's floor friction, along the push, through
-        // the centroid (in 3-D the finger may also press down, which raises the floor friction).
+        // the centroid. In 3-D the planar part sets this margin (the box is far from tipping),
+        // so its certificate has no vertical friction either; the floor reaction comes from the
+        // box's own tipping program.
         let c = &r.phases[0].contacts[0];
-        let load = if mode == "2d" {
-            0.35 * 0.05 * 9.81
-        } else {
-            0.35 * r.phases[0].floor[0].floor.normal
-        };
+        let load = 0.35 * 0.05 * 9.81;
+        assert_eq!(c.force.force[2], 0.0);
+        if mode == "3d" {
+            assert!(r.phases[0].floor[0].floor.footprint_margin > 0.01, "{r}");
+        }
         assert!(
             (c.force.force[0] + load).abs() < 1e-6 * load,
             "{mode}: {:?} vs {load}",
@@ -475,6 +477,9 @@ fn example_scenarios_decide_as_documented() {
         ("tall_pushes_short.json", true),
         ("robust_off_centre.json", false),
         ("yawed_pair_mm.json", true),
+        ("pair_3d_not_lenient.json", false),
+        ("short_phase_passes.json", true),
+        ("long_phase_turns.json", false),
     ];
     let dir = format!("{}/instances/pushes", env!("CARGO_MANIFEST_DIR"));
     let mut n = 0;
@@ -668,6 +673,50 @@ fn bad_scenarios_name_the_field() {
             },
             "boxes[1].pose",
         ),
+        (
+            {
+                // Smaller than any instance file accepts (MIN_EDGE = 0.1 mm).
+                let mut v = base.clone();
+                v["boxes"][0]["size"][0] = json!(1e-12);
+                v
+            },
+            "boxes[0].size[0]",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["units"] = json!("mm");
+                v["boxes"][0]["size"] = json!([60.0, 0.05, 30.0]);
+                v["boxes"][0]["pose"] = json!([50.0, 30.0, 0.0]);
+                v["pusher"] = json!({ "point": [90.0, 30.0], "width": 20.0, "height": 5.0 });
+                v
+            },
+            "boxes[0].size[1]",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["pusher"]["width"] = json!(1e-9);
+                v
+            },
+            "pusher.width",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["max_rotation"] = json!(-0.1);
+                v
+            },
+            "max_rotation",
+        ),
+        (
+            {
+                let mut v = base.clone();
+                v["max_drift"] = json!(0.0);
+                v
+            },
+            "max_drift",
+        ),
     ];
     for (v, field) in cases {
         match parse_scenario(&v.to_string(), "bad.json") {
@@ -715,4 +764,61 @@ fn the_planner_margin_is_the_clarabel_margin_in_every_mode() {
         }
     }
     assert!(checked > 0);
+    // Lines of two and three boxes: every ordered chain of objects whose faces overlap sideways,
+    // back ones behind front ones along the push (released apart: one phase per gap, and also
+    // closed up). 3-D and robust-3-D may only be stricter than 2-D and robust 2-D.
+    let lat_of = |i: usize, dir: pushpack::geometry::PushDir| {
+        let r = placement.targets[i].rect;
+        let lat = dir.axis().other();
+        [r.lo(lat), r.hi(lat)]
+    };
+    let along = |i: usize, dir: pushpack::geometry::PushDir| {
+        let r = placement.targets[i].rect;
+        let u = dir.unit()[dir.axis().index()];
+        u * r.center()[dir.axis().index()]
+    };
+    let mut multi = 0;
+    let mut stricter = 0;
+    for dir in pushpack::geometry::PushDir::ALL {
+        let n = inst.n();
+        let mut lines: Vec<Vec<usize>> = Vec::new();
+        for a in 0..n {
+            for b in 0..n {
+                let ok = |f: usize, bk: usize| {
+                    let (x, y) = (lat_of(f, dir), lat_of(bk, dir));
+                    f != bk && x[1].min(y[1]) - x[0].max(y[0]) > 0.01 && along(bk, dir) < along(f, dir) - 1e-6
+                };
+                if !ok(a, b) {
+                    continue;
+                }
+                lines.push(vec![a, b]);
+                for c in 0..n {
+                    if c != a && ok(b, c) {
+                        lines.push(vec![a, b, c]);
+                    }
+                }
+            }
+        }
+        for line in &lines {
+            let at = push::centred_pusher(&inst, &placement, line, dir);
+            for gap in [false, true] {
+                let gaps = vec![gap; line.len() - 1];
+                let m2 = push::line_margin(&inst, &placement, line, dir, at, &gaps);
+                let oracle = analytic::geometry_margin(&push::line_geometry(&inst, &placement, line, dir, at), &gaps);
+                assert!((m2 - oracle).abs() < 1e-8, "{line:?}: {m2} vs paper {oracle}");
+                let mode = |m: Mode| push::line_margin_mode(&inst, &placement, line, dir, at, &gaps, m, 0.1);
+                let (m3, mr, mr3) = (mode(Mode::D3), mode(Mode::Robust), mode(Mode::Robust3d));
+                assert!(m3 <= m2 + 1e-7, "{line:?} {dir:?}: 3-D {m3} > 2-D {m2}");
+                assert!(mr <= m2 + 1e-12, "{line:?} {dir:?}: robust {mr} > 2-D {m2}");
+                assert!(mr3 <= mr + 1e-7, "{line:?} {dir:?}: robust3d {mr3} > robust {mr}");
+                assert!(mr3 <= m3 + 1e-7, "{line:?} {dir:?}: robust3d {mr3} > 3-D {m3}");
+                if m3 < m2 - 1e-6 {
+                    stricter += 1;
+                }
+                multi += 1;
+            }
+        }
+    }
+    assert!(multi >= 10, "only {multi} multi-box lines");
+    eprintln!("{multi} multi-box lines, 3-D stricter than 2-D on {stricter}");
 }

@@ -9,12 +9,17 @@
 //! and moment balance about its centre of friction (1 row) with the floor friction `μ m g`
 //! against `u`. The margin `t` enters as `m ≥ t`, `L f_n − m ≥ t`; maximise `t`.
 //!
-//! **3-D (SOCP).** Per contact, forces at the four corners of its patch, each in a second-order
-//! friction cone `‖(f_e, f_z)‖ ≤ μ' f_n`; per box the floor normal `N` with its moments `(P, Q)`
-//! about the centroid along the body axes (centre of pressure `(P/N, Q/N)`, inside the footprint
-//! shrunk by `t`), floor friction `μ N` against `u` at the centre of friction, six balance rows.
-//! When no force distribution with pressure centres inside the real patches exists, a second
-//! solve extends every patch laterally (diagnostic only) to measure how far outside it is.
+//! **3-D.** The planar part is the 2-D LP above (no vertical friction, floor normals = weights),
+//! and every moving box gets its own tipping SOCP: per contact, forces at the four corners of its
+//! patch, each in a second-order friction cone `‖(f_e, f_z)‖ ≤ μ' f_n`; per box the floor normal
+//! `N` with its moments `(P, Q)` about the centroid along the body axes, floor friction `μ N`
+//! against `u` at the centre of friction, six balance rows; vertical friction only where that
+//! box's tipping would produce it (down on the tipping box, up on its neighbour, zero elsewhere);
+//! the margin is that box's footprint margin. The phase margin is the smallest of the planar
+//! margin and the tipping margins, so 3-D is never more lenient than 2-D and equals it where
+//! nothing tips (`docs/push_stability.md` §3). When no forces exist with every centre of pressure
+//! inside the real patches (the planar part already fails), a tipping program is re-solved with
+//! every patch extended laterally.
 //!
 //! Solvers are kept per problem structure (dimension, phase size, variant) in a thread-local
 //! table and re-used through clarabel's data-update interface (no new symbolic factorisation);
@@ -31,6 +36,7 @@ use clarabel::solver::{
 use serde::Serialize;
 
 use super::model::{cross, dot, Body, Contact, ContactKind, PushModel, V2};
+use super::travel::{self, TravelCheck};
 use super::{LineGeometry, CONE_SHRINK, MARGIN_TOL};
 
 /// Options of a check.
@@ -40,6 +46,10 @@ pub struct CheckOptions {
     pub cone_shrink: f64,
     /// Stable iff margin > `tol` (m).
     pub tol: f64,
+    /// Largest rotation (rad) over a phase of finite travel judged by its travel.
+    pub max_rotation: f64,
+    /// Largest lateral drift (m) over such a phase.
+    pub max_drift: f64,
 }
 
 impl Default for CheckOptions {
@@ -47,6 +57,8 @@ impl Default for CheckOptions {
         CheckOptions {
             cone_shrink: CONE_SHRINK,
             tol: MARGIN_TOL,
+            max_rotation: super::MAX_ROTATION,
+            max_drift: super::MAX_DRIFT,
         }
     }
 }
@@ -89,8 +101,10 @@ pub struct ContactForce {
     pub point: [f64; 3],
     /// Distance of the centre of pressure from the nearer segment end (m; negative = outside).
     pub segment_margin: f64,
-    /// Largest `‖tangential‖ / (μ · normal)` over the contact's end points / corners.
-    pub friction_use: f64,
+    /// Largest `‖tangential‖ / (μ · normal)` over the contact's end points / corners; `None`
+    /// for a frictionless contact (`μ = 0`: nothing to use, and no tangential force beyond
+    /// solver noise).
+    pub friction_use: Option<f64>,
 }
 
 /// Floor reaction of one box in a 3-D solution.
@@ -154,8 +168,23 @@ pub struct PhaseResult {
     pub floor: Vec<FloorForce>,
     /// What limits the margin.
     pub binding: Option<Binding>,
-    /// True when the 3-D margin came from the extended-patch diagnostic program.
+    /// True when a 3-D tipping margin came from the extended-patch program (the planar part
+    /// already failed: some line of action leaves its contact).
     pub extended: bool,
+    /// 3-D: margin of the planar part (segments, no vertical friction): the 2-D margin.
+    pub planar_margin: Option<f64>,
+    /// 3-D: the smallest tipping margin over the moving boxes (each from its own program).
+    pub tip_margin: Option<f64>,
+    /// Phases of finite travel whose box would turn: how far it turns and drifts over the
+    /// travel, and whether that is within the tolerances (then the phase passes).
+    pub travel: Option<TravelCheck>,
+}
+
+impl PhaseResult {
+    /// Whether the phase passes: margin above `tol`, or judged by its travel and within it.
+    pub fn passes(&self, tol: f64) -> bool {
+        self.margin.is_some_and(|m| m > tol) || self.travel.as_ref().is_some_and(|t| t.passes)
+    }
 }
 
 /// Result of a whole push (every phase).
@@ -163,10 +192,13 @@ pub struct PhaseResult {
 pub struct CheckResult {
     /// Model dimension.
     pub dim: Dim,
-    /// Smallest phase margin (m); `None` when some phase has no equilibrium at all.
+    /// Smallest margin (m) of the phases not passed by their travel; `None` when some phase
+    /// has no equilibrium at all.
     pub margin: Option<f64>,
-    /// Margin above the tolerance.
+    /// Every phase passes (margin above the tolerance, or judged by its travel and within it).
     pub stable: bool,
+    /// The phase that limits the push: the first that fails, else the smallest margin.
+    pub limiting_phase: Option<usize>,
     /// Phases in the order they occur.
     pub phases: Vec<PhaseResult>,
 }
@@ -186,22 +218,59 @@ fn key(m: Option<f64>) -> f64 {
 
 /// Check every phase of a push.
 pub fn check(model: &PushModel, dim: Dim, opts: &CheckOptions) -> CheckResult {
-    let phases: Vec<PhaseResult> = model.phase_starts.iter().map(|&s| phase(model, s, dim, opts)).collect();
+    let mut phases: Vec<PhaseResult> = model.phase_starts.iter().map(|&s| phase(model, s, dim, opts)).collect();
+    for (p, &travel) in phases.iter_mut().zip(&model.phase_travel) {
+        p.travel = judge_travel(model, p, travel, dim, opts);
+    }
+    let judged = |p: &PhaseResult| p.travel.as_ref().is_none_or(|t| !t.passes);
     let margin = phases
         .iter()
+        .filter(|p| judged(p))
         .map(|p| p.margin)
         .try_fold(f64::INFINITY, |acc, m| m.map(|m| acc.min(m)));
+    let stable = phases.iter().all(|p| p.passes(opts.tol));
+    let limiting_phase = phases.iter().position(|p| !p.passes(opts.tol)).or_else(|| {
+        (0..phases.len())
+            .filter(|&k| judged(&phases[k]))
+            .min_by(|&a, &b| key(phases[a].margin).total_cmp(&key(phases[b].margin)))
+    });
     CheckResult {
         dim,
         margin,
-        stable: margin.is_some_and(|m| m > opts.tol),
+        stable,
+        limiting_phase,
         phases,
     }
 }
 
-/// Margin only (no certificate): the fast path. All phases go into one program with a common
-/// margin (one solve in 2-D); in 3-D, phases without a solution inside the real patches are
-/// re-solved one by one with extended patches. `None` when some phase has no equilibrium at all.
+/// The travel judgement of a phase (`docs/push_stability.md` §5.4): only for a phase of finite
+/// travel in which one box moves alone and turns because its pusher's line of action leaves the
+/// finger (not for slip or tipping, which short travel does not make harmless).
+fn judge_travel(model: &PushModel, p: &PhaseResult, travel: f64, dim: Dim, opts: &CheckOptions) -> Option<TravelCheck> {
+    let k = model.k();
+    let m = p.margin?;
+    if !travel.is_finite() || m > opts.tol || p.start + 1 != k {
+        return None;
+    }
+    if dim == Dim::D3 && p.tip_margin.is_none_or(|t| t <= opts.tol) {
+        return None;
+    }
+    match p.binding {
+        Some(Binding::Segment { contact, end }) if contact == k - 1 => Some(travel::judge(
+            model,
+            contact,
+            end,
+            travel,
+            opts.max_rotation,
+            opts.max_drift,
+        )),
+        _ => None,
+    }
+}
+
+/// Margin only (no certificate): the fast path. The planar part of every phase goes into one
+/// LP with a common margin (one solve); in 3-D each moving box of each phase then gets its own
+/// tipping program (`tip_margin`). `None` when some phase has no equilibrium at all.
 pub fn margin(model: &PushModel, dim: Dim, opts: &CheckOptions) -> Option<f64> {
     let ds: Vec<PhaseData> = model
         .phase_starts
@@ -211,21 +280,28 @@ pub fn margin(model: &PushModel, dim: Dim, opts: &CheckOptions) -> Option<f64> {
     let l0 = ds.iter().map(|d| d.l0).fold(0.0, f64::max);
     // One length unit for the common margin: rescale every phase to the largest.
     let ds: Vec<PhaseData> = ds.into_iter().map(|d| d.with_l0(l0)).collect();
-    match optimise(&ds, dim, 0.0) {
-        Ok((_, t)) => Some(t * l0),
-        Err(_) if dim == Dim::D2 => None,
-        Err(_) => {
-            let mut out = f64::INFINITY;
-            for d in &ds {
-                let one = std::slice::from_ref(d);
-                let m = match optimise(one, dim, 0.0) {
-                    Ok((_, t)) => t * l0,
-                    Err(_) => (optimise(one, dim, EXTEND).ok()?.1 * l0).min(0.0),
-                };
-                out = out.min(m);
-            }
-            Some(out)
+    let planar = optimise(&ds, Dim::D2, 0.0, 0).ok()?.1 * l0;
+    if dim == Dim::D2 {
+        return Some(planar);
+    }
+    let mut out = planar;
+    for d in &ds {
+        for i in 0..d.n {
+            out = out.min(tip_margin(d, i)?.1 * l0);
         }
+    }
+    Some(out)
+}
+
+/// The tipping program of body `i` of phase `d`: solution, margin (units of `d.l0`) and whether
+/// the patches had to be extended. Real patches first; extended ones when no forces exist with
+/// every centre of pressure inside its real patch (which only happens when the planar part
+/// already fails, see `docs/push_stability.md` §3). `None` when the solver finds nothing.
+fn tip_margin(d: &PhaseData, i: usize) -> Option<(Vec<f64>, f64, bool)> {
+    let one = std::slice::from_ref(d);
+    match optimise(one, Dim::D3, 0.0, i) {
+        Ok((x, t)) => Some((x, t, false)),
+        Err(_) => optimise(one, Dim::D3, EXTEND, i).ok().map(|(x, t)| (x, t, true)),
     }
 }
 /// The clarabel 2-D margin of a planner line (see [`super::geometry_margin`]): every phase in
@@ -550,20 +626,37 @@ fn run(key: SolverKey, prog: &mut Program) -> Solved {
 /// Weights of the margin rows: `N_i(x) − θ D_i(x) − t w_i ≥ 0` for every margin constraint `i`
 /// (numerator `N_i` = distance of a centre of pressure from a segment end or footprint edge times
 /// the normal force `D_i`). `θ = 0, w = 1` is the reference-load program; other values are the
-/// generalized Dinkelbach steps of [`optimise`]. One weight per contact (2-D, 3-D) and per body
-/// (3-D), in program order.
+/// generalized Dinkelbach steps of [`optimise`]. One `(θ, w)` per group: per contact (2-D,
+/// 3-D), then per body (3-D), in program order. A group with `θ = w = 0` is a plain feasibility
+/// constraint (centre of pressure inside), which is how a tipping program leaves every row but
+/// its own box's footprint out of the margin.
 struct MarginRows {
-    theta: f64,
+    theta: Vec<f64>,
     w: Vec<f64>,
 }
 
 impl MarginRows {
-    fn reference(ds: &[PhaseData], dim: Dim) -> MarginRows {
+    /// The reference-load rows: 2-D, every contact carries the margin; 3-D (tipping program of
+    /// body `tip` of each phase), only that body's footprint does.
+    fn reference(ds: &[PhaseData], dim: Dim, tip: usize) -> MarginRows {
         let total: usize = ds.iter().map(|d| d.n).sum();
-        let groups = if dim == Dim::D2 { total } else { 2 * total };
-        MarginRows {
-            theta: 0.0,
-            w: vec![1.0; groups],
+        match dim {
+            Dim::D2 => MarginRows {
+                theta: vec![0.0; total],
+                w: vec![1.0; total],
+            },
+            Dim::D3 => {
+                let mut w = vec![0.0; 2 * total];
+                let mut off = 0;
+                for d in ds {
+                    w[total + off + tip] = 1.0;
+                    off += d.n;
+                }
+                MarginRows {
+                    theta: vec![0.0; 2 * total],
+                    w,
+                }
+            }
         }
     }
 }
@@ -578,10 +671,10 @@ fn t_col(ds: &[PhaseData], dim: Dim) -> usize {
 }
 
 /// Assemble the phases `ds` into one program with a common margin and solve it.
-fn solve_rows(ds: &[PhaseData], dim: Dim, variant: Variant, ext: f64, rows: &MarginRows) -> Solved {
+fn solve_rows(ds: &[PhaseData], dim: Dim, variant: Variant, ext: f64, rows: &MarginRows, tip: usize) -> Solved {
     let mut prog = match dim {
         Dim::D2 => assemble_2d(ds, variant, rows),
-        Dim::D3 => assemble_3d(ds, variant, ext, rows),
+        Dim::D3 => assemble_3d(ds, ext, rows, tip),
     };
     let shape: Vec<usize> = ds.iter().map(|d| d.n).collect();
     run((dim, shape, variant), &mut prog)
@@ -664,18 +757,21 @@ const DENOM_MIN: f64 = 1e-9;
 const MAX_DINKELBACH: usize = 8;
 
 /// Maximise the margin over the phases `ds` (common margin). Returns the solution and the
-/// margin in units of the length scale: the largest `t` such that every centre of pressure lies
-/// `t` inside its segment (footprint).
+/// margin in units of the length scale.
 ///
-/// 2-D: the normal force of every contact of a line is fixed by equilibrium and equals its
-/// reference load, so the reference-load LP is already exact (one solve). 3-D: vertical friction
-/// changes the normal loads, so the max–min of ratios `N_i/D_i` is found by the generalized
-/// Dinkelbach method (Crouzeix, Ferland & Schaible 1985): from `θ_k = min_i N_i(x_k)/D_i(x_k)`
-/// solve `max s : N_i(x) − θ_k D_i(x) ≥ s D_i(x_k)`; stop when `s ≈ 0`.
-fn optimise(ds: &[PhaseData], dim: Dim, ext: f64) -> std::result::Result<(Vec<f64>, f64), Solved> {
-    let mut rows = MarginRows::reference(ds, dim);
+/// 2-D: the largest `t` such that every centre of pressure lies `t` inside its segment. The
+/// normal force of every contact of a line is fixed by equilibrium and equals its reference load,
+/// so the reference-load LP is already exact (one solve).
+///
+/// 3-D (one phase, the tipping program of its body `tip`): the largest `t` such that that body's
+/// floor centre of pressure lies `t` inside its footprint. Vertical friction changes the normal
+/// loads, so the max–min of the ratios `N_i/D_i` is found by the generalized Dinkelbach method
+/// (Crouzeix, Ferland & Schaible 1985): from `θ_k = min_i N_i(x_k)/D_i(x_k)` solve
+/// `max s : N_i(x) − θ_k D_i(x) ≥ s D_i(x_k)`; stop when `s ≈ 0`.
+fn optimise(ds: &[PhaseData], dim: Dim, ext: f64, tip: usize) -> std::result::Result<(Vec<f64>, f64), Solved> {
+    let mut rows = MarginRows::reference(ds, dim, tip);
     let tc = t_col(ds, dim);
-    let mut x = match solve_rows(ds, dim, Variant::Margin, ext, &rows) {
+    let mut x = match solve_rows(ds, dim, Variant::Margin, ext, &rows, tip) {
         Solved::Optimal(x) => x,
         other => return Err(other),
     };
@@ -683,34 +779,29 @@ fn optimise(ds: &[PhaseData], dim: Dim, ext: f64) -> std::result::Result<(Vec<f6
         let t = x[tc];
         return Ok((x, t));
     }
-    let min_ratio = |r: &[Ratio]| r.iter().map(|r| r.value).fold(f64::INFINITY, f64::min);
-    let mut rs = ratios(ds, dim, &x, ext);
-    let mut theta = min_ratio(&rs);
+    debug_assert_eq!(ds.len(), 1, "3-D programs hold one phase");
+    let body = ds[0].start + tip;
+    let group = ds[0].n + tip;
+    // The target body's four footprint ratios (the order of `ratios`).
+    let target = |rs: &[Ratio]| -> (f64, f64) {
+        rs.iter()
+            .filter(|r| matches!(r.binding, Binding::Footprint { body: b, .. } if b == body))
+            .fold((f64::INFINITY, 0.0), |(v, d), r| (v.min(r.value), d.max(r.denom)))
+    };
+    let (mut theta, mut denom) = target(&ratios(ds, dim, &x, ext));
     for _ in 0..MAX_DINKELBACH {
-        rows.theta = theta;
-        // One weight per contact (its two ratios), then per body (its four), the order of
-        // `ratios` and of `assemble_3d`.
-        let (nc, _) = rs.split_at(
-            rs.iter()
-                .take_while(|r| matches!(r.binding, Binding::Segment { .. }))
-                .count(),
-        );
-        rows.w = nc
-            .chunks(2)
-            .chain(rs[nc.len()..].chunks(4))
-            .map(|c| c[0].denom.max(1e-6))
-            .collect();
-        let xn = match solve_rows(ds, dim, Variant::Margin, ext, &rows) {
+        rows.theta[group] = theta;
+        rows.w[group] = denom.max(1e-6);
+        let xn = match solve_rows(ds, dim, Variant::Margin, ext, &rows, tip) {
             Solved::Optimal(xn) => xn,
             _ => break,
         };
         let s = xn[tc];
-        let rn = ratios(ds, dim, &xn, ext);
-        let tn = min_ratio(&rn);
+        let (tn, dn) = target(&ratios(ds, dim, &xn, ext));
         if tn > theta {
             x = xn;
-            rs = rn;
             theta = tn;
+            denom = dn;
         }
         if s <= 1e-9 {
             break;
@@ -719,10 +810,17 @@ fn optimise(ds: &[PhaseData], dim: Dim, ext: f64) -> std::result::Result<(Vec<f6
     Ok((x, theta))
 }
 
-/// Assemble and solve one phase (slip diagnosis); `Some(x)` at an optimum.
-fn solve(d: &PhaseData, dim: Dim, variant: Variant, ext: f64) -> Option<Vec<f64>> {
+/// Assemble and solve one phase's 2-D slip diagnosis; `Some(x)` at an optimum.
+fn solve_slip(d: &PhaseData) -> Option<Vec<f64>> {
     let one = std::slice::from_ref(d);
-    match solve_rows(one, dim, variant, ext, &MarginRows::reference(one, dim)) {
+    match solve_rows(
+        one,
+        Dim::D2,
+        Variant::Slip,
+        0.0,
+        &MarginRows::reference(one, Dim::D2, 0),
+        0,
+    ) {
         Solved::Optimal(x) => Some(x),
         _ => None,
     }
@@ -748,7 +846,6 @@ fn assemble_2d(ds: &[PhaseData], variant: Variant, mr: &MarginRows) -> Program {
     let n_nn = 4 * total + 1 + if slip { total + 1 } else { 0 };
     let rows = 3 * total + n_nn;
     let mut p = Program::new(nv, rows);
-    let th = mr.theta;
     let mut off = 0;
     for d in ds {
         let n = d.n;
@@ -780,7 +877,7 @@ fn assemble_2d(ds: &[PhaseData], variant: Variant, mr: &MarginRows) -> Program {
             let c = d.contact(j);
             let len = c.len / d.l0;
             let mu = d.mu[j].max(MU_MIN);
-            let w = mr.w[off + j];
+            let (w, th) = (mr.w[off + j], mr.theta[off + j]);
             let r = 3 * total + 4 * (off + j);
             let col = 3 * (off + j);
             p.a(r, col, -mu);
@@ -833,23 +930,26 @@ fn col3_floor(off: usize, n: usize, i: usize) -> usize {
     15 * off + 12 * n + 3 * i
 }
 
-/// 3-D SOCP. Columns: per phase, 4 corners × `(f_n, f_e, f_z)` per contact, then `(N, P, Q)`
-/// per body; then `t`; then (slip) `σ_j`. Rows: 6 balance rows per body; 2 lateral rows per
-/// contact and 5 floor rows per body; the cap on `t`; (slip) `σ ≥ 0`, `t ≥ −T`; then one
-/// 3-dimensional second-order cone per corner.
-fn assemble_3d(ds: &[PhaseData], variant: Variant, ext: f64, mr: &MarginRows) -> Program {
+/// Lateral half extent added (normalised) to the footprints of the bodies a tipping program
+/// does not judge: their floor moments become free, so another box's tipping (its own program)
+/// cannot make this one infeasible.
+const RELAX: f64 = T_CAP;
+
+/// 3-D SOCP, the tipping program of body `tip` of each phase. Columns: per phase, 4 corners ×
+/// `(f_n, f_e, f_z)` per contact, then `(N, P, Q)` per body; then `t`. Rows: 6 balance rows per
+/// body; 2 lateral rows per contact and 5 floor rows per body; the cap on `t`; 2 sign rows per
+/// corner (vertical friction only where `tip` tipping would produce it); then one 3-dimensional
+/// second-order cone per corner.
+fn assemble_3d(ds: &[PhaseData], ext: f64, mr: &MarginRows, tip: usize) -> Program {
     let total: usize = ds.iter().map(|d| d.n).sum();
-    let slip = variant == Variant::Slip;
     let t = 15 * total;
-    let sig = |j: usize| 15 * total + 1 + j;
-    let nv = 15 * total + 1 + if slip { total } else { 0 };
-    let n_nn = 7 * total + 1 + if slip { total + 1 } else { 0 };
+    let nv = 15 * total + 1;
+    let n_nn = 7 * total + 1 + 8 * total;
     let n_soc = 12 * total;
     let rows = 6 * total + n_nn + n_soc;
     let mut p = Program::new(nv, rows);
-    let ext = if slip { EXTEND } else { ext };
-    let th = mr.theta;
     let soc0 = 6 * total + n_nn;
+    let cap = 6 * total + 7 * total;
     let mut off = 0;
     for d in ds {
         let n = d.n;
@@ -913,33 +1013,40 @@ fn assemble_3d(ds: &[PhaseData], variant: Variant, ext: f64, mr: &MarginRows) ->
             let c = d.contact(j);
             let len = c.len / d.l0;
             let lat = ends(len, ext);
-            let w = mr.w[off + j];
+            let (w, th) = (mr.w[off + j], mr.theta[off + j]);
             let r = nn0 + 2 * j;
             for corner in 0..4 {
                 let col = col3_contact(off, j, corner);
-                // Σ (s_k − θ) f_k − w t ≥ 0 and Σ (L − s_k − θ) f_k − w t ≥ 0
-                p.a(r, col, -(lat[corner / 2] - th));
-                p.a(r + 1, col, -(len - lat[corner / 2] - th));
+                // Σ (s_k + e − θ) f_k − w t ≥ 0 and Σ (L + e − s_k − θ) f_k − w t ≥ 0: the centre
+                // of pressure inside the (extended by e) patch; segments carry no margin here.
+                p.a(r, col, -(lat[corner / 2] + ext - th));
+                p.a(r + 1, col, -(len + ext - lat[corner / 2] - th));
             }
             p.a(r, t, w);
             p.a(r + 1, t, w);
             let mu = d.mu[j].max(MU_MIN);
+            // A tipping box rises everywhere but on its tipping edge, so friction pulls it down
+            // at each of its contacts and lifts the neighbour; f_z is the force on the front body.
+            let down = tip == j;
+            let up = tip == j + 1 && c.kind == ContactKind::Object;
             for corner in 0..4 {
                 let col = col3_contact(off, j, corner);
                 let sr = soc0 + 3 * (4 * (off + j) + corner);
                 p.a(sr, col, -mu);
-                if slip {
-                    p.a(sr, sig(off + j), -1.0);
-                }
                 p.a(sr + 1, col + 1, -1.0);
                 p.a(sr + 2, col + 2, -1.0);
+                let gr = cap + 1 + 8 * (off + j) + 2 * corner;
+                // −f_z ≥ 0 unless it may push the front body up; f_z ≥ 0 unless down.
+                p.a(gr, col + 2, if up { 0.0 } else { 1.0 });
+                p.a(gr + 1, col + 2, if down { 0.0 } else { -1.0 });
             }
         }
         for i in 0..n {
             let body = d.body(i);
-            let [ha, hb] = [body.half[0] / d.l0, body.half[1] / d.l0];
+            let relax = if i == tip { 0.0 } else { RELAX };
+            let [ha, hb] = [body.half[0] / d.l0 + relax, body.half[1] / d.l0 + relax];
             let nc = col3_floor(off, n, i);
-            let w = mr.w[total + off + i];
+            let (w, th) = (mr.w[total + off + i], mr.theta[total + off + i]);
             let r = nn0 + 2 * n + 5 * i;
             p.a(r, nc, -1.0);
             for (k, (h, col)) in [(ha, nc + 1), (hb, nc + 2)].into_iter().enumerate() {
@@ -954,19 +1061,9 @@ fn assemble_3d(ds: &[PhaseData], variant: Variant, ext: f64, mr: &MarginRows) ->
         }
         off += n;
     }
-    let cap = 6 * total + 7 * total;
     p.a(cap, t, 1.0);
     p.b[cap] = T_CAP;
-    if slip {
-        for j in 0..total {
-            p.a(cap + 1 + j, sig(j), -1.0);
-            p.q[sig(j)] = 1.0;
-        }
-        p.a(cap + 1 + total, t, -1.0);
-        p.b[cap + 1 + total] = T_CAP;
-    } else {
-        p.q[t] = -1.0;
-    }
+    p.q[t] = -1.0;
     let mut cones = vec![
         SupportedConeT::ZeroConeT(6 * total),
         SupportedConeT::NonnegativeConeT(n_nn),
@@ -976,22 +1073,81 @@ fn assemble_3d(ds: &[PhaseData], variant: Variant, ext: f64, mr: &MarginRows) ->
     p
 }
 
-/// Solve one phase and extract the certificate.
+/// Solve one phase and extract the certificate. 3-D: the planar part (the 2-D LP) and one
+/// tipping program per moving box; the phase margin is the smallest, and the certificate's
+/// contact forces are those of the program that sets it.
 pub fn phase(model: &PushModel, start: usize, dim: Dim, opts: &CheckOptions) -> PhaseResult {
     let d = PhaseData::new(model, start, opts);
-    let one = std::slice::from_ref(&d);
-    let mut res = optimise(one, dim, 0.0).map(|r| (r, false));
-    if dim == Dim::D3 && res.is_err() {
-        if let Ok(r) = optimise(one, dim, EXTEND) {
-            res = Ok((r, true));
+    let planar = phase_2d(&d);
+    if dim == Dim::D2 {
+        return planar;
+    }
+    let mut out = PhaseResult {
+        planar_margin: planar.margin,
+        ..planar
+    };
+    if out.margin.is_none() {
+        // A contact slips: no tipping question to ask.
+        return out;
+    }
+    let mut tip: Option<f64> = Some(f64::INFINITY);
+    let mut floor = Vec::with_capacity(d.n);
+    for i in 0..d.n {
+        let Some((x, t, extended)) = tip_margin(&d, i) else {
+            tip = None;
+            break;
+        };
+        let m = t * d.l0;
+        floor.push(floor_force(&d, &x, i));
+        out.extended |= extended;
+        if tip.is_some_and(|tm| m < tm) {
+            tip = Some(m);
+            if out.margin.is_some_and(|pm| m < pm) {
+                let ext = if extended { EXTEND } else { 0.0 };
+                out.margin = Some(m);
+                out.contacts = contact_forces(&d, Dim::D3, &x, ext);
+                out.binding = ratios(std::slice::from_ref(&d), Dim::D3, &x, ext)
+                    .into_iter()
+                    .filter(|r| matches!(r.binding, Binding::Footprint { body, .. } if body == d.start + i))
+                    .min_by(|a, b| a.value.total_cmp(&b.value))
+                    .map(|r| r.binding);
+            }
         }
     }
-    match res {
-        Ok(((x, t), extended)) => extract(&d, dim, &x, t, extended),
+    out.tip_margin = tip;
+    if tip.is_none() {
+        out.status = PhaseStatus::SolverFailed;
+        out.margin = None;
+        out.binding = None;
+    } else {
+        out.floor = floor;
+    }
+    out
+}
+
+/// The 2-D phase: margin, certificate, or the slip diagnosis when no forces exist.
+fn phase_2d(d: &PhaseData) -> PhaseResult {
+    let one = std::slice::from_ref(d);
+    match optimise(one, Dim::D2, 0.0, 0) {
+        Ok((x, t)) => PhaseResult {
+            start: d.start,
+            status: PhaseStatus::Solved,
+            margin: Some(t * d.l0),
+            contacts: contact_forces(d, Dim::D2, &x, 0.0),
+            floor: Vec::new(),
+            binding: ratios(one, Dim::D2, &x, 0.0)
+                .into_iter()
+                .min_by(|a, b| a.value.total_cmp(&b.value))
+                .map(|r| r.binding),
+            extended: false,
+            planar_margin: None,
+            tip_margin: None,
+            travel: None,
+        },
         Err(status) => {
             let failed = matches!(status, Solved::Failed);
-            let binding = solve(&d, dim, Variant::Slip, EXTEND).and_then(|x| {
-                let off = t_col(one, dim) + 1;
+            let binding = solve_slip(d).and_then(|x| {
+                let off = t_col(one, Dim::D2) + 1;
                 let mut excess: Vec<(usize, f64)> = (0..d.n)
                     .map(|j| (d.start + j, x[off + j]))
                     .filter(|&(_, e)| e > 1e-7)
@@ -1003,7 +1159,7 @@ pub fn phase(model: &PushModel, start: usize, dim: Dim, opts: &CheckOptions) -> 
                 })
             });
             PhaseResult {
-                start,
+                start: d.start,
                 status: if failed && binding.is_none() {
                     PhaseStatus::SolverFailed
                 } else {
@@ -1014,26 +1170,24 @@ pub fn phase(model: &PushModel, start: usize, dim: Dim, opts: &CheckOptions) -> 
                 floor: Vec::new(),
                 binding,
                 extended: false,
+                planar_margin: None,
+                tip_margin: None,
+                travel: None,
             }
         }
     }
 }
 
-fn extract(d: &PhaseData, dim: Dim, x: &[f64], t: f64, extended: bool) -> PhaseResult {
+/// Contact forces of a solution `x` of one phase's program.
+fn contact_forces(d: &PhaseData, dim: Dim, x: &[f64], ext: f64) -> Vec<ContactForce> {
     let n = d.n;
-    let one = std::slice::from_ref(d);
-    let ext = if extended { EXTEND } else { 0.0 };
-    let binding = ratios(one, dim, x, ext)
-        .into_iter()
-        .min_by(|a, b| a.value.total_cmp(&b.value))
-        .map(|r| r.binding);
     let mut contacts = Vec::with_capacity(n);
-    let mut floor = Vec::new();
     for j in 0..n {
         let c = d.contact(j);
         let len = c.len / d.l0;
         let rj = d.r[j];
-        let mu = c.mu.max(f64::MIN_POSITIVE);
+        // Below MU_MIN the program uses MU_MIN: measure use against what it could use.
+        let mu = c.mu.max(MU_MIN);
         let (fnv, fe, fz, mom, zc, use_) = match dim {
             Dim::D2 => {
                 let (f, ft, m) = (x[3 * j], x[3 * j + 1], x[3 * j + 2]);
@@ -1073,40 +1227,31 @@ fn extract(d: &PhaseData, dim: Dim, x: &[f64], t: f64, extended: bool) -> PhaseR
             tangential: [rj * fe, rj * fz],
             point,
             segment_margin: d.l0 * s.min(len - s),
-            friction_use: use_,
+            friction_use: (c.mu > 0.0).then_some(use_),
         });
     }
-    if dim == Dim::D3 {
-        for i in 0..n {
-            let body = d.body(i);
-            let col = col3_floor(0, n, i);
-            let (nn, pp, qq) = (x[col], x[col + 1], x[col + 2]);
-            let [ha, hb] = [body.half[0] / d.l0, body.half[1] / d.l0];
-            let (al, be) = if nn > 1e-12 { (pp / nn, qq / nn) } else { (0.0, 0.0) };
-            let [a, b] = body.axes;
-            let cop = [
-                body.centre[0] + d.l0 * (al * a[0] + be * b[0]),
-                body.centre[1] + d.l0 * (al * a[1] + be * b[1]),
-            ];
-            let gn = d.g[i] * nn;
-            floor.push(FloorForce {
-                body: d.start + i,
-                normal: gn,
-                friction: body.mu_floor * gn,
-                cop,
-                footprint_margin: d.l0 * (ha - al.abs()).min(hb - be.abs()),
-            });
-        }
-    }
-    let margin = t * d.l0;
-    PhaseResult {
-        start: d.start,
-        status: PhaseStatus::Solved,
-        margin: Some(if extended { margin.min(0.0) } else { margin }),
-        contacts,
-        floor,
-        binding,
-        extended,
+    contacts
+}
+
+/// Floor reaction of body `i` in a solution `x` of one phase's 3-D program.
+fn floor_force(d: &PhaseData, x: &[f64], i: usize) -> FloorForce {
+    let body = d.body(i);
+    let col = col3_floor(0, d.n, i);
+    let (nn, pp, qq) = (x[col], x[col + 1], x[col + 2]);
+    let [ha, hb] = [body.half[0] / d.l0, body.half[1] / d.l0];
+    let (al, be) = if nn > 1e-12 { (pp / nn, qq / nn) } else { (0.0, 0.0) };
+    let [a, b] = body.axes;
+    let cop = [
+        body.centre[0] + d.l0 * (al * a[0] + be * b[0]),
+        body.centre[1] + d.l0 * (al * a[1] + be * b[1]),
+    ];
+    let gn = d.g[i] * nn;
+    FloorForce {
+        body: d.start + i,
+        normal: gn,
+        friction: body.mu_floor * gn,
+        cop,
+        footprint_margin: d.l0 * (ha - al.abs()).min(hb - be.abs()),
     }
 }
 

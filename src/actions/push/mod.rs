@@ -30,6 +30,7 @@ pub mod convex;
 pub mod model;
 pub mod robust;
 pub mod scenario;
+pub mod travel;
 
 pub use convex::{CheckOptions, ContactForce, Dim, FloorForce, PhaseResult, PhaseStatus};
 pub use model::{Body, Contact, ContactKind, PushModel};
@@ -45,6 +46,14 @@ pub const CONE_SHRINK: f64 = 0.05;
 
 /// A push is stable iff its margin exceeds this (m); 1 µm, the geometric tolerance.
 pub const MARGIN_TOL: f64 = crate::geometry::EPS;
+
+/// Default largest rotation (rad) a box may make over a phase of known, finite travel whose
+/// line of action leaves its contact (1°: the planner's release and target tolerances are a few
+/// tenths of a millimetre over a box's half width, which a degree already uses).
+pub const MAX_ROTATION: f64 = std::f64::consts::PI / 180.0;
+
+/// Default largest lateral drift (m) of a box's centre over such a phase: 1 mm.
+pub const MAX_DRIFT: f64 = 1e-3;
 
 /// Lateral intervals and friction weights of a line, front to back (the planner's 2-D view:
 /// boxes axis-aligned, pushed perpendicular to their faces).

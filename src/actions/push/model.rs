@@ -136,6 +136,11 @@ pub struct PushModel {
     pub contacts: Vec<Contact>,
     /// Front body of each moving group, in the order the phases occur (back group first).
     pub phase_starts: Vec<usize>,
+    /// How far each phase moves its group (m), parallel to `phase_starts`: the gap it closes,
+    /// `∞` for the last phase (the whole line, to the end of the push) and whenever the gap is
+    /// not known (the planner's lines). Finite travel lets a phase be judged by how far its box
+    /// turns and drifts over it (`docs/push_stability.md` §5.4).
+    pub phase_travel: Vec<f64>,
 }
 
 impl PushModel {
@@ -145,12 +150,14 @@ impl PushModel {
         let mut phase_starts = super::analytic::phase_starts(gaps);
         phase_starts.retain(|&s| s < bodies.len());
         phase_starts.reverse();
+        let phase_travel = vec![f64::INFINITY; phase_starts.len()];
         PushModel {
             u,
             gravity: crate::instance::GRAVITY,
             bodies,
             contacts,
             phase_starts,
+            phase_travel,
         }
     }
 

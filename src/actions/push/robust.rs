@@ -188,9 +188,15 @@ pub fn check(model: &PushModel, set: &UncertaintySet, dim: Dim, opts: &CheckOpti
         if case.nominal {
             nominal_margin = r.margin;
         }
+        // An unstable case beats a stable one (a phase may fail by its travel with a margin
+        // that no longer counts), then the smaller margin.
+        let rank = |r: &CheckResult| (r.stable, r.margin.unwrap_or(f64::NEG_INFINITY));
         let better = match &worst {
             None => true,
-            Some((w, _)) => r.margin.unwrap_or(f64::NEG_INFINITY) < w.margin.unwrap_or(f64::NEG_INFINITY),
+            Some((w, _)) => {
+                let ((sr, mr), (sw, mw)) = (rank(&r), rank(w));
+                (!sr && sw) || (sr == sw && mr < mw)
+            }
         };
         if better {
             worst = Some((r, case));

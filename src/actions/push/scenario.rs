@@ -35,6 +35,7 @@ use serde::{Deserialize, Serialize};
 use super::convex::{self, Binding, CheckOptions, CheckResult, ContactForce, Dim, FloorForce, PhaseStatus};
 use super::model::{cross, dot, Body, Contact, ContactKind, PushModel, V2};
 use super::robust::{self, RobustCase, UncertaintySet};
+use super::travel::TravelCheck;
 use crate::error::{Error, Result};
 
 /// Which check a scenario asks for.
@@ -95,6 +96,10 @@ struct ScenarioFile {
     pusher: PusherFile,
     #[serde(default)]
     cone_shrink: Option<f64>,
+    #[serde(default)]
+    max_rotation: Option<f64>,
+    #[serde(default)]
+    max_drift: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -228,6 +233,20 @@ fn positive(file: &str, field: &str, v: f64) -> Result<f64> {
     }
 }
 
+/// A length (m) that must be at least the instance files' smallest box edge, so that the
+/// geometric tolerances stay negligible against it.
+fn edge(file: &str, field: &str, v: f64) -> Result<f64> {
+    use crate::instance::MIN_EDGE;
+    if v < MIN_EDGE {
+        return Err(err(
+            file,
+            field,
+            format!("must be at least {MIN_EDGE} m (100 x the geometric tolerance, as in instance files), got {v:e} m"),
+        ));
+    }
+    Ok(v)
+}
+
 fn non_negative(file: &str, field: &str, v: f64) -> Result<f64> {
     if finite(file, field, v)? >= 0.0 {
         Ok(v)
@@ -293,6 +312,14 @@ fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
         }
         None => super::CONE_SHRINK,
     };
+    let max_rotation = match f.max_rotation {
+        Some(r) => positive(file, "max_rotation", r)?,
+        None => super::MAX_ROTATION,
+    };
+    let max_drift = match f.max_drift {
+        Some(d) => positive(file, "max_drift", d)? * scale,
+        None => super::MAX_DRIFT,
+    };
     if f.boxes.is_empty() {
         return Err(err(file, "boxes", "needs at least one box"));
     }
@@ -309,7 +336,8 @@ fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
         }
         let mut size = [0.0; 3];
         for (k, v) in size.iter_mut().enumerate() {
-            *v = positive(file, &format!("{}[{k}]", fld("size")), b.size[k])? * scale;
+            let field = format!("{}[{k}]", fld("size"));
+            *v = edge(file, &field, positive(file, &field, b.size[k])? * scale)?;
         }
         let mass = positive(file, &fld("mass"), b.mass)?;
         for k in 0..3 {
@@ -343,7 +371,7 @@ fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
     for k in 0..2 {
         finite(file, &format!("pusher.point[{k}]"), p.point[k])?;
     }
-    let width = positive(file, "pusher.width", p.width)? * scale;
+    let width = edge(file, "pusher.width", positive(file, "pusher.width", p.width)? * scale)?;
     let height = non_negative(file, "pusher.height", p.height)? * scale;
     let pn = match p.normal {
         Some(v) => unit(file, "pusher.normal", v)?,
@@ -482,6 +510,12 @@ fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
     let gap_flags: Vec<bool> = gaps[..k - 1].iter().map(|&g| g > TOL).collect();
     let mut model = PushModel::new(u, bodies, contacts, &gap_flags);
     model.gravity = gravity;
+    // Phase `s > 0` (boxes `s..k`) lasts until it closes the gap in front of box `s`.
+    model.phase_travel = model
+        .phase_starts
+        .iter()
+        .map(|&s| if s == 0 { f64::INFINITY } else { gaps[s - 1] })
+        .collect();
     // Uncertainty.
     let uncertainty = match (&f.robust, f.mode.robust()) {
         (None, true) => {
@@ -567,6 +601,8 @@ fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
         uncertainty,
         options: CheckOptions {
             cone_shrink,
+            max_rotation,
+            max_drift,
             ..CheckOptions::default()
         },
     })
@@ -796,6 +832,12 @@ pub struct PhaseReport {
     pub contacts: Vec<ContactReport>,
     /// Floor reactions (3-D).
     pub floor: Vec<FloorReport>,
+    /// A phase of finite travel whose box would turn: rotation and drift over its travel.
+    pub travel: Option<TravelCheck>,
+    /// 3-D: margin of the planar part (no vertical friction; the 2-D margin).
+    pub planar_margin: Option<f64>,
+    /// 3-D: smallest tipping margin over the moving boxes.
+    pub tip_margin: Option<f64>,
 }
 
 /// Robust-mode summary.
@@ -828,6 +870,9 @@ pub struct PushReport {
     pub gaps: Vec<f64>,
     /// Why it fails (when unstable).
     pub failure: Option<Failure>,
+    /// The phase (1-based) that limits the push: the first that fails, else the one with the
+    /// smallest margin.
+    pub limiting_phase: Option<usize>,
     /// Phases in the order they occur.
     pub phases: Vec<PhaseReport>,
     /// Robust summary (robust modes).
@@ -948,7 +993,7 @@ fn report(s: &Scenario, model: &PushModel, result: &CheckResult, robust: Option<
             limited_by: p
                 .binding
                 .as_ref()
-                .map(|b| describe(model, b, p.margin, p.margin.is_none_or(|m| m <= s.options.tol)).2),
+                .map(|b| describe(model, b, p.margin, !p.passes(s.options.tol)).2),
             contacts: p
                 .contacts
                 .iter()
@@ -966,6 +1011,9 @@ fn report(s: &Scenario, model: &PushModel, result: &CheckResult, robust: Option<
                     floor: f.clone(),
                 })
                 .collect(),
+            travel: p.travel.clone(),
+            planar_margin: p.planar_margin,
+            tip_margin: p.tip_margin,
         })
         .collect();
     let failure = if result.stable {
@@ -975,8 +1023,26 @@ fn report(s: &Scenario, model: &PushModel, result: &CheckResult, robust: Option<
             .phases
             .iter()
             .enumerate()
-            .find(|(_, p)| p.margin.is_none_or(|m| m <= s.options.tol))
+            .find(|(_, p)| !p.passes(s.options.tol))
             .map(|(k, p)| match &p.binding {
+                Some(b) if p.travel.is_some() => {
+                    let t = p.travel.as_ref().expect("travel");
+                    let (kind, at, _) = describe(model, b, p.margin, true);
+                    Failure {
+                        phase: k + 1,
+                        kind,
+                        at,
+                        detail: format!(
+                            "{} turns {:.2}° and drifts {:.3} mm while it closes its {:.3} mm gap (limits {:.2}°, {:.3} mm)",
+                            model.bodies[t.body].name,
+                            t.rotation.to_degrees(),
+                            t.drift * 1e3,
+                            t.travel * 1e3,
+                            s.options.max_rotation.to_degrees(),
+                            s.options.max_drift * 1e3
+                        ),
+                    }
+                }
                 Some(b) => {
                     let (kind, at, detail) = describe(model, b, p.margin, true);
                     Failure {
@@ -1007,9 +1073,15 @@ fn report(s: &Scenario, model: &PushModel, result: &CheckResult, robust: Option<
         cone_shrink: s.options.cone_shrink,
         gaps: s.gaps.clone(),
         failure,
+        limiting_phase: result.limiting_phase.map(|k| k + 1),
         phases,
         robust,
     }
+}
+
+/// Friction use as a percentage; a frictionless contact (`μ = 0`) has none to use.
+fn fmt_use(u: Option<f64>) -> String {
+    u.map_or("n/a (μ = 0)".to_string(), |u| format!("{:.0}%", u * 100.0))
 }
 
 fn fmt_m(m: Option<f64>) -> String {
@@ -1039,6 +1111,8 @@ impl fmt::Display for PushReport {
         )?;
         if let Some(fl) = &self.failure {
             writeln!(f, "  failure (phase {}): {}", fl.phase, fl.detail)?;
+        } else if let Some(k) = self.limiting_phase {
+            writeln!(f, "  limited by phase {k}")?;
         }
         if let Some(r) = &self.robust {
             writeln!(
@@ -1067,10 +1141,32 @@ impl fmt::Display for PushReport {
             if let Some(l) = &p.limited_by {
                 writeln!(f, "    limited by: {l}")?;
             }
+            if p.planar_margin.is_some() {
+                writeln!(
+                    f,
+                    "    planar margin {}, tipping margin {}",
+                    fmt_m(p.planar_margin),
+                    p.tip_margin
+                        .map_or("none (solver failed)".to_string(), |m| format!("{m:.6} m"))
+                )?;
+            }
+            if let Some(t) = &p.travel {
+                writeln!(
+                    f,
+                    "    judged by its travel: closes {:.3} mm (finger {:.3} mm); turns {:.3}°, drifts {:.4} mm ({} at the finger); {:.0}% of the limits: {}",
+                    t.travel * 1e3,
+                    t.pusher_travel * 1e3,
+                    t.rotation.to_degrees(),
+                    t.drift * 1e3,
+                    if t.sticking { "sticking" } else { "sliding" },
+                    t.usage * 100.0,
+                    if t.passes { "passes" } else { "fails" }
+                )?;
+            }
             for c in &p.contacts {
                 writeln!(
                     f,
-                    "    {}: force ({:.4}, {:.4}, {:.4}) N, normal {:.4} N, tangential {:.4} N, at ({:.4}, {:.4}, {:.4}) m, segment margin {:.4} m, friction use {:.0}%",
+                    "    {}: force ({:.4}, {:.4}, {:.4}) N, normal {:.4} N, tangential {:.4} N, at ({:.4}, {:.4}, {:.4}) m, segment margin {:.4} m, friction use {}",
                     c.name,
                     c.force.force[0],
                     c.force.force[1],
@@ -1081,7 +1177,7 @@ impl fmt::Display for PushReport {
                     c.force.point[1],
                     c.force.point[2],
                     c.force.segment_margin,
-                    c.force.friction_use * 100.0
+                    fmt_use(c.force.friction_use)
                 )?;
             }
             for fl in &p.floor {
