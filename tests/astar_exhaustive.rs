@@ -427,8 +427,9 @@ fn objects_of(seed: u64) -> usize {
 /// exhaustive tier that `.ci/run` runs after it with `--ignored`. Together: all 100 seeds.
 #[test]
 fn astar_matches_exhaustive_enumeration_up_to_five_objects() {
+    // All 60 had plans when the tiers were split; below 95 % the check has lost its force.
     let checked = check_seeds(|n| n <= 5);
-    if checked.is_some_and(|c| c < 54) {
+    if checked.is_some_and(|c| c < 57) {
         panic!("only {checked:?} of 60 instances had plans");
     }
 }
@@ -436,8 +437,9 @@ fn astar_matches_exhaustive_enumeration_up_to_five_objects() {
 #[test]
 #[ignore = "exhaustive tier (6 and 7 objects, several minutes): .ci/run runs it with --ignored"]
 fn astar_matches_exhaustive_enumeration_on_six_and_seven_objects() {
+    // All 40 had plans when the tiers were split.
     let checked = check_seeds(|n| n > 5);
-    if checked.is_some_and(|c| c < 36) {
+    if checked.is_some_and(|c| c < 38) {
         panic!("only {checked:?} of 40 instances had plans");
     }
 }
