@@ -10,6 +10,7 @@
 //! ```
 
 use pushpack::control::TimeLimit;
+use pushpack::instance::generate::consecutive_squares_toml;
 use pushpack::instance::Instance;
 use pushpack::placement::{milp, Placement, PlacementResult, PlacementStatus};
 
@@ -21,38 +22,6 @@ use common::{arg, median};
 const A038666: [u32; 22] = [
     1, 6, 15, 35, 60, 99, 154, 210, 300, 405, 513, 667, 836, 1035, 1265, 1512, 1794, 2139, 2491, 2890, 3344, 3822,
 ];
-
-/// Squares 1 … n in 2 mm units, container `c` units (default: never binds).
-fn squares_text(n: u32, c: Option<(u32, u32)>) -> String {
-    const U: u32 = 2;
-    let s = n * (n + 1) / 2;
-    let (cw, cd) = c.unwrap_or((s, s));
-    let (cw, cd) = (cw * U, cd * U);
-    let mut t = format!(
-        "format_version = 1\nname = \"squares-{n}\"\nunits = \"mm\"\n[container]\nwidth = {cw}\ndepth = {cd}\n\
-         wall_height = 60\nwall_thickness = 5\ncenter = [{}, 0]\n[friction]\nmu_floor = 0.35\nmu_obj = 0.4\n\
-         mu_finger = 0.6\n[gripper]\nfinger_thickness = 10\nfinger_width = 20\nfinger_length = 60\n\
-         max_opening = 90\ngrasp_depth = 15\nrelease_clearance = 5\n",
-        300.0 + f64::from(cw) / 2.0
-    );
-    for i in 1..=n {
-        t += &format!(
-            "[[kinds]]\nname = \"s{i}\"\nsize = [{}, {}, 30]\nmass = 0.05\n",
-            i * U,
-            i * U
-        );
-    }
-    for k in 0..n {
-        let y = if (k / 2) % 2 == 1 { 1 } else { -1 } * (60 + 60 * (k / 4) as i32);
-        t += &format!(
-            "[[objects]]\nid = \"o{}\"\nkind = \"s{}\"\nx = {}\ny = {y}\norientations = \"upright\"\n",
-            k + 1,
-            k + 1,
-            200 + 60 * (k % 2)
-        );
-    }
-    t
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -66,12 +35,12 @@ fn main() {
     for n in from..=to.min(22) {
         let want = A038666[n as usize - 1];
         // The tight container: the optimal box, found by the unconstrained run.
-        let mut text = squares_text(n, None);
+        let mut text = consecutive_squares_toml(n, None);
         if tight {
             let inst = Instance::parse(&text, false, "<bench>", None).expect("valid");
             let r = run(&inst, limit).0;
             let (w, d) = r.placement.extent();
-            text = squares_text(n, Some(((w / 0.002).round() as u32, (d / 0.002).round() as u32)));
+            text = consecutive_squares_toml(n, Some(((w / 0.002).round() as u32, (d / 0.002).round() as u32)));
         }
         let inst = Instance::parse(&text, false, "<bench>", None).expect("valid");
         let mut area_s = Vec::new();

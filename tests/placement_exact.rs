@@ -3,41 +3,9 @@
 
 use pushpack::control::TimeLimit;
 use pushpack::error::Error;
+use pushpack::instance::generate::consecutive_squares_toml;
 use pushpack::instance::Instance;
 use pushpack::placement::{milp, Placement, PlacementResult, PlacementStatus};
-
-/// Squares 1×1 … n×n (unit 2 mm, upright), in a container of `c` units (default: the sum of
-/// the sides, which never binds).
-fn squares_text(n: u32, c: Option<(u32, u32)>) -> String {
-    const U: u32 = 2;
-    let s = n * (n + 1) / 2;
-    let (cw, cd) = c.unwrap_or((s, s));
-    let (cw, cd) = (cw * U, cd * U);
-    let mut t = format!(
-        "format_version = 1\nname = \"squares-{n}\"\nunits = \"mm\"\n[container]\nwidth = {cw}\ndepth = {cd}\n\
-         wall_height = 60\nwall_thickness = 5\ncenter = [{}, 0]\n[friction]\nmu_floor = 0.35\nmu_obj = 0.4\n\
-         mu_finger = 0.6\n[gripper]\nfinger_thickness = 10\nfinger_width = 20\nfinger_length = 60\n\
-         max_opening = 90\ngrasp_depth = 15\nrelease_clearance = 5\n",
-        300.0 + f64::from(cw) / 2.0
-    );
-    for i in 1..=n {
-        t += &format!(
-            "[[kinds]]\nname = \"s{i}\"\nsize = [{}, {}, 30]\nmass = 0.05\n",
-            i * U,
-            i * U
-        );
-    }
-    for k in 0..n {
-        let y = if (k / 2) % 2 == 1 { 1 } else { -1 } * (60 + 60 * (k / 4) as i32);
-        t += &format!(
-            "[[objects]]\nid = \"o{}\"\nkind = \"s{}\"\nx = {}\ny = {y}\norientations = \"upright\"\n",
-            k + 1,
-            k + 1,
-            200 + 60 * (k % 2)
-        );
-    }
-    t
-}
 
 fn no_warm() -> PlacementResult {
     PlacementResult {
@@ -70,7 +38,7 @@ fn consecutive_squares_reach_a038666() {
     let known = [1.0, 6.0, 15.0, 35.0, 60.0, 99.0, 154.0, 210.0, 300.0];
     for (k, &want) in known.iter().enumerate() {
         let n = k as u32 + 1;
-        let inst = Instance::parse(&squares_text(n, None), false, "<squares>", None).unwrap();
+        let inst = Instance::parse(&consecutive_squares_toml(n, None), false, "<squares>", None).unwrap();
         let r = milp::solve(&inst, &no_warm(), &settings(), &TimeLimit::new(120.0)).unwrap();
         assert!(r.placement.violations(&inst).is_empty(), "n = {n}");
         assert_eq!(r.status, PlacementStatus::Optimal, "n = {n}");
@@ -87,7 +55,7 @@ fn consecutive_squares_reach_a038666() {
 /// same optimum.
 #[test]
 fn tight_container_is_solved_with_or_without_warm_start() {
-    let inst = Instance::parse(&squares_text(8, Some((14, 15))), false, "<squares>", None).unwrap();
+    let inst = Instance::parse(&consecutive_squares_toml(8, Some((14, 15))), false, "<squares>", None).unwrap();
     let (r, _) = pushpack::plan::solve_placement_report(&inst, pushpack::plan::PlacementSolver::Milp, 1, 20, 120.0)
         .expect("a packing exists");
     assert!(r.placement.violations(&inst).is_empty());
@@ -103,7 +71,7 @@ fn tight_container_is_solved_with_or_without_warm_start() {
 /// ignored: same area, same contact, same status as a good one.
 #[test]
 fn a_bad_warm_start_does_not_change_the_answer() {
-    let inst = Instance::parse(&squares_text(6, None), false, "<squares>", None).unwrap();
+    let inst = Instance::parse(&consecutive_squares_toml(6, None), false, "<squares>", None).unwrap();
     let good = pushpack::placement::bl::solve(&inst, 1, 20, &TimeLimit::new(10.0)).unwrap();
     let mut bad = good.clone();
     for t in &mut bad.placement.targets {
@@ -123,7 +91,7 @@ fn a_bad_warm_start_does_not_change_the_answer() {
 /// says so as infeasibility, not as a stop or a solver failure.
 #[test]
 fn infeasible_container_is_proven() {
-    let inst = Instance::parse(&squares_text(8, Some((13, 16))), false, "<squares>", None).unwrap();
+    let inst = Instance::parse(&consecutive_squares_toml(8, Some((13, 16))), false, "<squares>", None).unwrap();
     match milp::solve(&inst, &no_warm(), &settings(), &TimeLimit::new(120.0)) {
         Err(Error::Infeasible { reason }) => assert!(reason.contains("fit in no box"), "{reason}"),
         other => panic!("expected a proof of infeasibility, got {other:?}"),
@@ -133,7 +101,7 @@ fn infeasible_container_is_proven() {
 /// Stopped at once: a placement (the warm start's) and a valid bound, not an error.
 #[test]
 fn stopped_search_reports_incumbent_and_bound() {
-    let inst = Instance::parse(&squares_text(14, None), false, "<squares>", None).unwrap();
+    let inst = Instance::parse(&consecutive_squares_toml(14, None), false, "<squares>", None).unwrap();
     let warm = pushpack::placement::bl::solve(&inst, 1, 5, &TimeLimit::new(10.0)).unwrap();
     let s = milp::MilpSettings {
         time_limit: 0.0,

@@ -160,6 +160,41 @@ pub fn to_toml(f: &InstanceFile) -> String {
     toml::to_string(f).expect("instance files serialise")
 }
 
+/// The consecutive-squares family (OEIS A038666): squares 1×1 … n×n in 2 mm units, upright, in
+/// a container of `c` units (default: the sum of the sides, which never binds), as instance
+/// TOML. A standard benchmark of exact rectangle packing; the tests and
+/// `benches/placement_squares.rs` use it.
+pub fn consecutive_squares_toml(n: u32, c: Option<(u32, u32)>) -> String {
+    const U: u32 = 2;
+    let s = n * (n + 1) / 2;
+    let (cw, cd) = c.unwrap_or((s, s));
+    let (cw, cd) = (cw * U, cd * U);
+    let mut t = format!(
+        "format_version = 1\nname = \"squares-{n}\"\nunits = \"mm\"\n[container]\nwidth = {cw}\ndepth = {cd}\n\
+         wall_height = 60\nwall_thickness = 5\ncenter = [{}, 0]\n[friction]\nmu_floor = 0.35\nmu_obj = 0.4\n\
+         mu_finger = 0.6\n[gripper]\nfinger_thickness = 10\nfinger_width = 20\nfinger_length = 60\n\
+         max_opening = 90\ngrasp_depth = 15\nrelease_clearance = 5\n",
+        300.0 + f64::from(cw) / 2.0
+    );
+    for i in 1..=n {
+        t += &format!(
+            "[[kinds]]\nname = \"s{i}\"\nsize = [{}, {}, 30]\nmass = 0.05\n",
+            i * U,
+            i * U
+        );
+    }
+    for k in 0..n {
+        let y = if (k / 2) % 2 == 1 { 1 } else { -1 } * (60 + 60 * (k / 4) as i32);
+        t += &format!(
+            "[[objects]]\nid = \"o{}\"\nkind = \"s{}\"\nx = {}\ny = {y}\norientations = \"upright\"\n",
+            k + 1,
+            k + 1,
+            200 + 60 * (k % 2)
+        );
+    }
+    t
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

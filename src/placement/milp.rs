@@ -30,7 +30,7 @@
 //! and allowed footprints) are ordered by `x` (symmetry breaking; valid because any placement can
 //! be relabelled so).
 
-use super::area::{self, BoundPoint};
+use super::area::{self, subset_sums, BoundPoint};
 use super::{is_bl_stable, Placement, PlacementResult, PlacementStatus, Target};
 use crate::control::Terminator;
 use crate::error::{Error, Result};
@@ -284,25 +284,6 @@ struct GridModel {
     groups: Vec<Vec<usize>>,
     depth: (Variable, usize),
     constraints: Vec<Constraint>,
-}
-
-/// Sorted distinct subset sums (one value per object at most) of `vals`, up to `limit`.
-fn subset_sums(vals: &[Vec<f64>], limit: f64) -> Vec<f64> {
-    let mut sums = vec![0.0f64];
-    for opts in vals {
-        let mut next = sums.clone();
-        for s in &sums {
-            for v in opts {
-                if s + v <= limit + EPS {
-                    next.push(s + v);
-                }
-            }
-        }
-        next.sort_by(f64::total_cmp);
-        next.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
-        sums = next;
-    }
-    sums
 }
 
 /// Objects grouped by identical size, footprints and mass.
