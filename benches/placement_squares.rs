@@ -12,7 +12,7 @@
 use pushpack::control::TimeLimit;
 use pushpack::instance::generate::consecutive_squares_toml;
 use pushpack::instance::Instance;
-use pushpack::placement::{milp, Placement, PlacementResult, PlacementStatus};
+use pushpack::placement::{milp, PlacementResult, PlacementStatus};
 
 #[allow(dead_code)] // shared helpers: this bench uses two of them
 mod common;
@@ -73,15 +73,7 @@ fn main() {
 }
 
 fn run(inst: &Instance, limit: f64) -> (PlacementResult, milp::MilpReport) {
-    let none = PlacementResult {
-        placement: Placement { targets: Vec::new() },
-        status: PlacementStatus::Feasible,
-        lower_bound: 0.0,
-        solver: "none".into(),
-        time_s: 0.0,
-        nodes: 0,
-        subproblems: 0,
-    };
+    let none = PlacementResult::empty("none", 0.0);
     let s = milp::MilpSettings {
         time_limit: limit,
         contact_stage: true,

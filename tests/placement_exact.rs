@@ -5,18 +5,10 @@ use pushpack::control::TimeLimit;
 use pushpack::error::Error;
 use pushpack::instance::generate::consecutive_squares_toml;
 use pushpack::instance::Instance;
-use pushpack::placement::{milp, Placement, PlacementResult, PlacementStatus};
+use pushpack::placement::{milp, PlacementResult, PlacementStatus};
 
 fn no_warm() -> PlacementResult {
-    PlacementResult {
-        placement: Placement { targets: Vec::new() },
-        status: PlacementStatus::Feasible,
-        lower_bound: 0.0,
-        solver: "none".into(),
-        time_s: 0.0,
-        nodes: 0,
-        subproblems: 0,
-    }
+    PlacementResult::empty("none", 0.0)
 }
 
 fn settings() -> milp::MilpSettings {

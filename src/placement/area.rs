@@ -144,10 +144,10 @@ fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outcome, 
     (r, s.nodes)
 }
 
-/// The placement of a search result, compacted.
-fn placement(fps: &[Footprints], order: &[usize], pos: &[opp::Pos]) -> Placement {
+/// The targets of a search result: `pos[k]` places object `order[k]`.
+fn targets_of(fps: &[Footprints], order: &[usize], pos: impl Iterator<Item = opp::Pos>) -> Vec<Target> {
     let mut targets = vec![None; fps.len()];
-    for (k, p) in pos.iter().enumerate() {
+    for (k, p) in pos.enumerate() {
         let i = order[k];
         let (f, q, h) = fps[i][p.opt];
         targets[i] = Some(Target {
@@ -156,10 +156,14 @@ fn placement(fps: &[Footprints], order: &[usize], pos: &[opp::Pos]) -> Placement
             height: h,
         });
     }
-    let p = Placement {
-        targets: targets.into_iter().map(|t| t.expect("every item placed")).collect(),
-    };
-    super::milp::compact(&p)
+    targets.into_iter().map(|t| t.expect("every item placed")).collect()
+}
+
+/// The placement of a search result, compacted.
+fn placement(fps: &[Footprints], order: &[usize], pos: &[opp::Pos]) -> Placement {
+    super::milp::compact(&Placement {
+        targets: targets_of(fps, order, pos.iter().copied()),
+    })
 }
 
 /// `p` mirrored in the line `x = y` (each object turned to its footprint with swapped sizes),
@@ -407,9 +411,8 @@ pub fn max_contact(
     let far = [w >= cw - EPS, d >= cd - EPS];
     let far = if flip { [far[1], far[0]] } else { far };
     let mut visit = |pos: &[opp::Pos]| {
-        let mut targets = vec![None; fps.len()];
-        for (k, p) in pos.iter().enumerate() {
-            let p = if flip {
+        let unflip = |p: &opp::Pos| {
+            if flip {
                 opp::Pos {
                     opt: p.opt,
                     x: p.y,
@@ -417,16 +420,9 @@ pub fn max_contact(
                 }
             } else {
                 *p
-            };
-            let i = order[k];
-            let (f, q, h) = fps[i][p.opt];
-            targets[i] = Some(Target {
-                orientation: q,
-                rect: Rect::new(p.x, p.y, f[0], f[1]),
-                height: h,
-            });
-        }
-        let targets: Vec<Target> = targets.into_iter().map(|t| t.expect("every item placed")).collect();
+            }
+        };
+        let targets = targets_of(fps, &order, pos.iter().map(unflip));
         if super::is_bl_stable(&targets) {
             let p = Placement { targets };
             let c = p.contact_length(inst);

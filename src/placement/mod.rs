@@ -62,6 +62,20 @@ pub struct PlacementResult {
 }
 
 impl PlacementResult {
+    /// No placement at all, from `solver` after `time_s` seconds: what the exact solver starts
+    /// from when it has no warm start (feasibility never depends on one).
+    pub fn empty(solver: &str, time_s: f64) -> Self {
+        PlacementResult {
+            placement: Placement { targets: Vec::new() },
+            status: PlacementStatus::Feasible,
+            lower_bound: 0.0,
+            solver: solver.into(),
+            time_s,
+            nodes: 0,
+            subproblems: 0,
+        }
+    }
+
     /// Relative gap `(area − bound) / area`.
     pub fn gap(&self) -> f64 {
         let a = self.placement.occupied_area();

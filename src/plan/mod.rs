@@ -61,15 +61,7 @@ pub fn solve_placement_report(
                 seed,
             };
             // Bottom-Left finding nothing proves nothing: the exact search starts without it.
-            let warm = bl.unwrap_or_else(|_| PlacementResult {
-                placement: placement::Placement { targets: Vec::new() },
-                status: placement::PlacementStatus::Feasible,
-                lower_bound: 0.0,
-                solver: "bl".into(),
-                time_s: limit.elapsed(),
-                nodes: 0,
-                subproblems: 0,
-            });
+            let warm = bl.unwrap_or_else(|_| PlacementResult::empty("bl", limit.elapsed()));
             placement::milp::solve_report(inst, &warm, &settings, &limit).map(|(r, rep)| (r, Some(rep)))
         }
     }
