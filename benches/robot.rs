@@ -10,9 +10,10 @@ use nalgebra::Vector3;
 use pushpack::actions::{Action, PlaceMode};
 use pushpack::geometry::{Axis2, PushDir};
 use pushpack::instance::Instance;
+use pushpack::motion::{plan_trajectories, TrajectoryOptions};
 use pushpack::plan::{optimize, PlanOptions};
 use pushpack::robot::ik::{top_down_pose, IkSolver};
-use pushpack::robot::{plan_trajectories, Arm, RobotModel, TrajectoryOptions, DEFAULT_TCP_OFFSET};
+use pushpack::robot::{Arm, RobotModel, DEFAULT_TCP_OFFSET};
 use std::hint::black_box;
 
 /// 64 top-down targets over the container and the left half of the table.
@@ -77,7 +78,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| plan_trajectories(&inst, &placement, black_box(&actions), &TrajectoryOptions::default()))
     });
     g.bench_function("exp2_8objects_check", |b| {
-        b.iter(|| pushpack::robot::check_trajectories(&inst, black_box(&out.plan)))
+        b.iter(|| pushpack::verify::trajectories::check_trajectories(&inst, black_box(&out.plan)))
     });
     g.finish();
 
@@ -100,7 +101,7 @@ fn bench(c: &mut Criterion) {
                     object: i,
                     mode,
                     grasp_axis,
-                    arm: pushpack::robot::keypoints::pick_arm(&inst, i),
+                    arm: pushpack::motion::keypoints::pick_arm(&inst, i),
                 });
             }
         }
@@ -112,13 +113,13 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             places
                 .iter()
-                .filter(|a| pushpack::robot::motion::action_reach(&inst, &placement, a).is_some())
+                .filter(|a| pushpack::motion::joint_plan::action_reach(&inst, &placement, a).is_some())
                 .count()
         })
     });
     g.bench_function(BenchmarkId::new("reach_cache", places.len()), |b| {
         b.iter(|| {
-            let cache = pushpack::robot::reach_cache::ReachCache::new(&inst, &placement);
+            let cache = pushpack::motion::reach_cache::ReachCache::new(&inst, &placement);
             places.iter().filter(|a| cache.ok(a)).count()
         })
     });

@@ -33,6 +33,7 @@ pub mod control;
 pub mod error;
 pub mod geometry;
 pub mod instance;
+pub mod motion;
 pub mod placement;
 pub mod plan;
 pub mod render;

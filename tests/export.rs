@@ -3,8 +3,8 @@
 
 mod common;
 
+use pushpack::plan::export::{export, to_yaml, ExportFormat, RosJointTrajectory};
 use pushpack::plan::{optimize, PlanOptions};
-use pushpack::robot::export::{export, to_yaml, ExportFormat, RosJointTrajectory};
 use pushpack::robot::Arm;
 
 fn plan() -> pushpack::plan::Plan {
@@ -118,9 +118,9 @@ fn export_writes_ros_yaml_json_and_csv_per_arm_that_parse_back() {
 #[test]
 fn yaml_of_an_empty_message_parses_and_bad_plans_are_refused() {
     let m = RosJointTrajectory {
-        header: pushpack::robot::export::RosHeader {
+        header: pushpack::plan::export::RosHeader {
             seq: 0,
-            stamp: pushpack::robot::export::RosTime { secs: 0, nsecs: 0 },
+            stamp: pushpack::plan::export::RosTime { secs: 0, nsecs: 0 },
             frame_id: "WAIST".into(),
         },
         joint_names: vec!["A".into()],

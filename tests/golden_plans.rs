@@ -67,8 +67,10 @@ fn canonical(plan: &Value) -> Value {
     for k in ["occupied_area", "lower_bound", "contact_length"] {
         placement.insert(k.into(), plan["placement"][k].clone());
     }
-    let trajectories: Vec<Value> =
-        plan["trajectories"].as_array().map(|ts| ts.iter().map(trajectory_fingerprint).collect()).unwrap_or_default();
+    let trajectories: Vec<Value> = plan["trajectories"]
+        .as_array()
+        .map(|ts| ts.iter().map(trajectory_fingerprint).collect())
+        .unwrap_or_default();
     json!({
         "placement": placement,
         "placements": plan["placements"],
@@ -89,7 +91,12 @@ fn diff(path: &str, a: &Value, b: &Value, out: &mut Vec<String>) {
         }
         (Value::Object(x), Value::Object(y)) => {
             for k in x.keys().chain(y.keys().filter(|k| !x.contains_key(*k))) {
-                diff(&format!("{path}.{k}"), x.get(k).unwrap_or(&Value::Null), y.get(k).unwrap_or(&Value::Null), out);
+                diff(
+                    &format!("{path}.{k}"),
+                    x.get(k).unwrap_or(&Value::Null),
+                    y.get(k).unwrap_or(&Value::Null),
+                    out,
+                );
             }
         }
         (Value::Array(x), Value::Array(y)) if x.len() == y.len() => {
@@ -118,11 +125,20 @@ fn plans_of_the_committed_paper_and_example_instances_are_the_recorded_ones() {
     let tmp = tempfile::tempdir().unwrap();
     let mut failures = Vec::new();
     let list = instances();
-    assert!(list.len() >= 7, "expected the 2 paper and 5 example instances, found {list:?}");
+    assert!(
+        list.len() >= 7,
+        "expected the 2 paper and 5 example instances, found {list:?}"
+    );
     for inst in &list {
         let stem = inst.file_stem().unwrap().to_string_lossy().to_string();
         let out = tmp.path().join(&stem);
-        let run = Command::new(env!("CARGO_BIN_EXE_pushpack")).arg("plan").arg(inst).arg("--out").arg(&out).output().unwrap();
+        let run = Command::new(env!("CARGO_BIN_EXE_pushpack"))
+            .arg("plan")
+            .arg(inst)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
         let plan_path = out.join("plan.json");
         assert!(
             plan_path.exists(),
@@ -148,7 +164,11 @@ fn plans_of_the_committed_paper_and_example_instances_are_the_recorded_ones() {
             failures.push(d.join("\n"));
         }
     }
-    assert!(failures.is_empty(), "plans differ from tests/golden:\n{}", failures.join("\n\n"));
+    assert!(
+        failures.is_empty(),
+        "plans differ from tests/golden:\n{}",
+        failures.join("\n\n")
+    );
 }
 
 #[test]

@@ -3,8 +3,9 @@
 //! library and by `pushpack validate` — and `units` scales lengths and nothing else.
 
 use pushpack::error::Error;
-use pushpack::instance::{Instance, NEXTAGE_INITIAL_POSE_DEG};
+use pushpack::instance::Instance;
 use pushpack::plan::{optimize, PlanOptions};
+use pushpack::robot::NEXTAGE_INITIAL_POSE_DEG;
 use pushpack::robot::{Arm, RobotModel, DEFAULT_TCP_OFFSET};
 use std::path::{Path, PathBuf};
 use std::process::Command;

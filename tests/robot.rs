@@ -5,15 +5,16 @@ mod common;
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use pushpack::actions::Action;
-use pushpack::instance::{Instance, NEXTAGE_INITIAL_POSE_DEG};
+use pushpack::instance::Instance;
+use pushpack::motion::collision::{first_collision, robot_parts, static_obstacles, Hand};
+use pushpack::motion::joint_plan::{line_distance, LINE_LIMIT};
+use pushpack::motion::trajectory::{time_segment, TrajectoryOptions};
+use pushpack::motion::{action_reachable, arms_reaching, select_arm};
 use pushpack::plan::{optimize, PlanOptions, PlanOutcome};
-use pushpack::robot::collision::{first_collision, robot_parts, static_obstacles, Hand};
 use pushpack::robot::ik::{pose_residual, top_down_pose, IkSolver};
-use pushpack::robot::motion::{line_distance, LINE_LIMIT};
-use pushpack::robot::trajectory::{time_segment, TrajectoryOptions};
-use pushpack::robot::{
-    action_reachable, arms_reaching, check_trajectories, select_arm, Arm, RobotError, RobotModel, DEFAULT_TCP_OFFSET,
-};
+use pushpack::robot::NEXTAGE_INITIAL_POSE_DEG;
+use pushpack::robot::{Arm, RobotError, RobotModel, DEFAULT_TCP_OFFSET};
+use pushpack::verify::trajectories::check_trajectories;
 use std::sync::OnceLock;
 
 /// Where the official NEXTAGE Open URDF is read from: `PUSHPACK_OFFICIAL_URDF` if set, else
@@ -410,7 +411,7 @@ fn paper_plans_have_verified_collision_free_trajectories_for_every_action() {
             assert!(tr.error.is_none(), "{}: {}: {:?}", inst.name, tr.label, tr.error);
             assert_eq!(tr.arm, a.arm);
             assert_eq!(tr.key_poses.len(), a.key_poses.len());
-            assert!(tr.clearance.unwrap_or(0.0) >= -pushpack::robot::collision::CONTACT_TOLERANCE);
+            assert!(tr.clearance.unwrap_or(0.0) >= -pushpack::motion::collision::CONTACT_TOLERANCE);
         }
         let issues = check_trajectories(inst, plan);
         assert!(issues.is_empty(), "{}: {issues:#?}", inst.name);
@@ -577,8 +578,8 @@ fn turning_an_object_over_is_a_robot_issue_unless_the_cell_can_regrasp() {
 fn a_neighbour_on_the_table_blocks_the_open_fingers_until_it_is_gone() {
     use pushpack::actions::{Layout, ObjState, PlaceMode};
     use pushpack::geometry::Axis2;
-    use pushpack::robot::motion::action_reach;
-    use pushpack::robot::reach_cache::ReachCache;
+    use pushpack::motion::joint_plan::action_reach;
+    use pushpack::motion::reach_cache::ReachCache;
     // exp1's 1a and 1b (5 cm × 4 cm footprints on the table) 1 cm apart in y: the open fingers
     // (release clearance 0.5 cm + finger 1 cm beside each face) reach the neighbour when they
     // close along y, not along x.
@@ -611,7 +612,7 @@ fn a_neighbour_on_the_table_blocks_the_open_fingers_until_it_is_gone() {
                     object: a,
                     mode,
                     grasp_axis: ax,
-                    arm: pushpack::robot::keypoints::pick_arm(&inst, a),
+                    arm: pushpack::motion::keypoints::pick_arm(&inst, a),
                 };
                 // Some places are unreachable anyway (fingers against a wall).
                 let Some(r) = action_reach(&inst, &placement, &act) else {

@@ -15,9 +15,9 @@
 use pushpack::actions::{push, Action, PlaceMode};
 use pushpack::geometry::{Axis2, BodyAxis, Orientation, PushDir, Rect, EPS};
 use pushpack::instance::Instance;
+use pushpack::motion::keypoints::pick_arm;
 use pushpack::placement::{Placement, PlacementResult, PlacementStatus, Target};
 use pushpack::plan::{build_plan, optimize, Plan, PlanOptions, PlanOutcome, Sequencer};
-use pushpack::robot::keypoints::pick_arm;
 use pushpack::sequence::{self, SequenceResult};
 use pushpack::verify::{verify, Report, ViolationClass as V};
 use std::collections::{BTreeSet, HashMap};

@@ -7,10 +7,10 @@
 
 pub mod push;
 
+use crate::geometry::Arm;
 use crate::geometry::{Axis2, Box3, PushDir, Rect, EPS};
 use crate::instance::{Gripper, Instance};
 use crate::placement::Placement;
-use crate::robot::Arm;
 use serde::{Deserialize, Serialize};
 
 /// How an object is released.

@@ -451,14 +451,14 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
         }
         Cmd::Export { plan, format, out } => {
             let p = Plan::load(&plan)?;
-            let fmt: crate::robot::export::ExportFormat = format
+            let fmt: crate::plan::export::ExportFormat = format
                 .parse()
                 .map_err(|e: String| Error::input("<command line>", "--format", e))?;
             std::fs::create_dir_all(&out).map_err(|e| Error::Io {
                 path: out.clone(),
                 source: e,
             })?;
-            for f in crate::robot::export::export(&p, fmt, &out)? {
+            for f in crate::plan::export::export(&p, fmt, &out)? {
                 println!("wrote {}", f.display());
             }
             Ok(EXIT_OK)

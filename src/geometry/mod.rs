@@ -5,7 +5,10 @@
 //! *touch* when a shared boundary has positive length. 3-D intersection questions go through
 //! parry3d in [`parry_bridge`], the one place where parry's types meet ours.
 
+mod arm;
 pub mod parry_bridge;
+
+pub use arm::Arm;
 
 use serde::{Deserialize, Serialize};
 

@@ -9,8 +9,9 @@ pub mod file;
 pub mod generate;
 
 use crate::error::{Error, Result};
+use crate::geometry::Arm;
 use crate::geometry::{convex_overlap, oriented_corners, BodyAxis, Box3, Orientation, Rect};
-use crate::robot::{Arm, RobotModel};
+use crate::robot::{RobotModel, NEXTAGE_INITIAL_POSE_DEG};
 use file::InstanceFile;
 use nalgebra::Vector3;
 use sha2::{Digest, Sha256};
@@ -281,12 +282,6 @@ pub const MAX_TIME_LIMIT: f64 = 1e9;
 /// Smallest accepted box edge in metres: 100 × [`crate::geometry::EPS`], so that the geometric
 /// tolerance stays negligible against every object.
 pub const MIN_EDGE: f64 = 1e-4;
-
-/// Default standard initial pose of the NEXTAGE Open arms, degrees (left, right).
-pub const NEXTAGE_INITIAL_POSE_DEG: [[f64; 6]; 2] = [
-    [0.6, 0.0, -100.0, -15.2, 9.4, -3.2],
-    [-0.6, 0.0, -100.0, 15.2, 9.4, 3.2],
-];
 
 impl Instance {
     /// Load and validate an instance file (`.toml` or `.json`; other extensions are tried as TOML).

@@ -7,13 +7,15 @@
 use crate::actions::{Action, PlaceMode};
 use crate::control::{Terminator, TimeLimit};
 use crate::error::{Error, Result};
+use crate::geometry::Arm;
 use crate::geometry::{Axis2, Orientation, PushDir, Rect};
 use crate::instance::Instance;
+use crate::motion::keypoints::{action_keypoints, path_length, KeyPoint};
 use crate::placement::{self, Placement, PlacementResult, PlacementStatus, Target};
-use crate::robot::keypoints::{action_keypoints, path_length, KeyPoint};
-use crate::robot::Arm;
 use crate::sequence::{self, Metrics, SequenceOptions, SequenceResult};
 use serde::{Deserialize, Serialize};
+
+pub mod export;
 
 /// Version of the `plan.json` schema.
 pub const FORMAT_VERSION: u32 = 1;
@@ -292,10 +294,19 @@ pub struct Plan {
     pub solver: SolverStats,
     /// Robot model, TCP and frames of the joint trajectories (SPEC §8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub robot: Option<crate::robot::RobotInfo>,
+    pub robot: Option<crate::motion::RobotInfo>,
     /// Joint trajectories: one per action in order, plus park and return-home moves.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub trajectories: Vec<crate::robot::ActionTrajectory>,
+    pub trajectories: Vec<crate::motion::ActionTrajectory>,
+}
+
+impl Plan {
+    /// The trajectories of one arm, in time order.
+    pub fn arm_trajectories(&self, arm: Arm) -> Vec<&crate::motion::ActionTrajectory> {
+        let mut v: Vec<&crate::motion::ActionTrajectory> = self.trajectories.iter().filter(|t| t.arm == arm).collect();
+        v.sort_by(|a, b| a.t_start.total_cmp(&b.t_start));
+        v
+    }
 }
 
 fn object_index(inst: &Instance, id: &str, field: &str, file: &str) -> Result<usize> {
@@ -654,7 +665,7 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
         })
         .collect();
     let (robot, trajectories) =
-        crate::robot::plan_trajectories(inst, p, &sr.actions, &crate::robot::TrajectoryOptions::default());
+        crate::motion::plan_trajectories(inst, p, &sr.actions, &crate::motion::TrajectoryOptions::default());
     let status_name = |s: sequence::SearchStatus| {
         serde_json::to_value(s)
             .ok()

@@ -22,11 +22,11 @@ mod svg;
 
 use crate::actions::{Action, PlaceMode};
 use crate::error::{Error, Result};
+use crate::geometry::Arm;
 use crate::geometry::{Axis2, PushDir, Rect};
 use crate::instance::Instance;
 use crate::placement::{Placement, PlacementResult, PlacementStatus};
 use crate::plan::Plan;
-use crate::robot::Arm;
 use std::path::{Path, PathBuf};
 use svg::{text_width, tint, Anchor, Paint, Svg};
 

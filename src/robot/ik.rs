@@ -91,7 +91,7 @@ impl<'a> IkSolver<'a> {
         // Seeds: the standard initial pose (if within limits), then a fixed pseudo-random set
         // inside the limits shrunk by 5 % (deterministic: same seeds every run).
         let mut seeds = Vec::new();
-        let home = crate::instance::NEXTAGE_INITIAL_POSE_DEG[arm.index()].map(f64::to_radians);
+        let home = super::NEXTAGE_INITIAL_POSE_DEG[arm.index()].map(f64::to_radians);
         if (0..6).all(|k| home[k] >= lower[k] && home[k] <= upper[k]) {
             seeds.push(home);
         }

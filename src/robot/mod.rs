@@ -1,5 +1,5 @@
-//! Stage 4: the robot — NEXTAGE Open kinematic model loaded from URDF, forward and inverse
-//! kinematics, collision primitives, joint plans of actions, time parameterisation and export.
+//! The robot model: the NEXTAGE Open kinematic chains loaded from URDF, forward and inverse
+//! kinematics. Nothing here knows about boxes, actions or plans.
 //!
 //! The model is read with urdf-rs and converted into one serial chain per arm (WAIST → chest →
 //! `*ARM_JOINT0..5`). The chest joint is held at 0. The TCP sits at a fixed offset in the
@@ -7,73 +7,24 @@
 //! the approach (−x of `JOINT5_Link`), y along the finger closing axis (y of `JOINT5_Link`) and x
 //! toward the hand's thick side (z of `JOINT5_Link`); see `docs/robot.md`.
 //!
-//! * [`ik`] — inverse kinematics (damped least squares with a closed-form wrist-roll step);
-//! * [`collision`] — the work cell and the robot's collision primitives (parry3d);
-//! * [`motion`] — key poses of an action, joint plans, arm selection, reachability;
-//! * [`trajectory`] — time parameterisation and the `plan.json` trajectory records;
-//! * [`check`] — the independent checks the verifier runs on recorded trajectories;
-//! * [`export`](mod@export) — ROS `trajectory_msgs/JointTrajectory` YAML/JSON and CSV.
+//! * [`ik`] — inverse kinematics (damped least squares with a closed-form wrist-roll step).
+//!
+//! What the robot does with the model (key points, joint plans, cell collisions, time
+//! parameterisation) is the [`crate::motion`] stage.
 
-pub mod check;
-pub mod collision;
-pub mod export;
 pub mod ik;
-pub mod keypoints;
-pub mod motion;
-pub mod reach_cache;
-pub mod trajectory;
 
-pub use check::check_trajectories;
-pub use export::{export, ExportFormat};
+pub use crate::geometry::Arm;
 pub use ik::{top_down_rotation, IkSolver};
-pub use motion::{action_reachable, arms_reaching, plan_trajectories, select_arm};
-pub use trajectory::{ActionTrajectory, KeyPose, RobotInfo, TrajPoint, TrajectoryOptions};
 
 use crate::geometry::parry_bridge::Solid;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
-use serde::{Deserialize, Serialize};
 
-/// One of the two arms.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Arm {
-    /// The left arm (`LARM_*`, y > 0 side).
-    Left,
-    /// The right arm (`RARM_*`, y < 0 side).
-    Right,
-}
-
-impl Arm {
-    /// The other arm.
-    pub fn other(self) -> Arm {
-        match self {
-            Arm::Left => Arm::Right,
-            Arm::Right => Arm::Left,
-        }
-    }
-
-    /// 0 for left, 1 for right.
-    pub fn index(self) -> usize {
-        match self {
-            Arm::Left => 0,
-            Arm::Right => 1,
-        }
-    }
-    /// `left` or `right`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Arm::Left => "left",
-            Arm::Right => "right",
-        }
-    }
-    /// URDF joint-name prefix.
-    pub fn prefix(self) -> &'static str {
-        match self {
-            Arm::Left => "LARM",
-            Arm::Right => "RARM",
-        }
-    }
-}
+/// Default standard initial pose of the NEXTAGE Open arms, degrees (left, right).
+pub const NEXTAGE_INITIAL_POSE_DEG: [[f64; 6]; 2] = [
+    [0.6, 0.0, -100.0, -15.2, 9.4, -3.2],
+    [-0.6, 0.0, -100.0, 15.2, 9.4, 3.2],
+];
 
 /// Default TCP offset in the `*ARM_JOINT5_Link` frame: the fingertip centre of the bundled gripper,
 /// 0.20 m along −x of the wrist flange: at the standard initial pose the fingertips then hang
@@ -444,7 +395,7 @@ mod tests {
     #[test]
     fn home_tcp_hangs_above_the_table() {
         let m = RobotModel::bundled();
-        let q = crate::instance::NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians));
+        let q = NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians));
         let l = m.tcp_position(Arm::Left, &q[0], &DEFAULT_TCP_OFFSET);
         let r = m.tcp_position(Arm::Right, &q[1], &DEFAULT_TCP_OFFSET);
         // SPEC §3: at the standard initial pose the hands hang about 0.07 m above the table (z = -0.20).

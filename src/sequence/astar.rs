@@ -20,11 +20,11 @@ use super::{metrics, SearchStatus, SequenceOptions, SequenceResult};
 use crate::actions::{push, Action, Layout, ObjState, PlaceMode};
 use crate::control::Terminator;
 use crate::error::{Error, Result};
+use crate::geometry::Arm;
 use crate::geometry::{Axis2, PushDir, EPS};
 use crate::instance::Instance;
+use crate::motion::keypoints::{action_keypoints, path_length, pick_arm, push_arms, transfer_z};
 use crate::placement::Placement;
-use crate::robot::keypoints::{action_keypoints, path_length, pick_arm, push_arms, transfer_z};
-use crate::robot::Arm;
 use nalgebra::Vector3;
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::EdgeRef;
@@ -223,7 +223,7 @@ struct Search<'a> {
     container_corners: [Vector3<f64>; 4],
     push_vertical: f64,
     /// Reachability of actions by the robot (inverse kinematics), memoised.
-    reach: crate::robot::reach_cache::ReachCache<'a>,
+    reach: crate::motion::reach_cache::ReachCache<'a>,
     /// Feasible actions per object state.
     succ_cache: RefCell<FxMap<Vec<u8>, Successors>>,
     /// Remaining-actions memo per object state: (proven lower bound, length of a plan found).
@@ -550,7 +550,7 @@ impl<'a> Search<'a> {
             }),
             container_corners,
             push_vertical: 2.0 * (zt - (inst.container.floor_z + g.push_height)),
-            reach: crate::robot::reach_cache::ReachCache::new(inst, placement),
+            reach: crate::motion::reach_cache::ReachCache::new(inst, placement),
             succ_cache: RefCell::new(FxMap::default()),
             // Phase 1 stores millions of states on twelve objects: start large enough that the
             // first rehashes do not matter.

@@ -9,8 +9,8 @@ pub mod paper;
 
 use crate::actions::{Action, Layout, PlaceMode};
 use crate::instance::Instance;
+use crate::motion::keypoints::total_travel;
 use crate::placement::Placement;
-use crate::robot::keypoints::total_travel;
 use serde::{Deserialize, Serialize};
 
 /// How a sequence search ended.

@@ -21,11 +21,11 @@ use super::{metrics, SearchStatus, SequenceOptions, SequenceResult};
 use crate::actions::{push, Action, Layout, PlaceMode};
 use crate::control::Terminator;
 use crate::error::{Error, Result};
+use crate::geometry::Arm;
 use crate::geometry::{PushDir, EPS};
 use crate::instance::Instance;
+use crate::motion::keypoints::{action_keypoints, path_length, pick_arm, push_arms};
 use crate::placement::Placement;
-use crate::robot::keypoints::{action_keypoints, path_length, pick_arm, push_arms};
-use crate::robot::Arm;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -335,7 +335,7 @@ enum Item {
 }
 
 struct Dfs<'a> {
-    reach: &'a crate::robot::reach_cache::ReachCache<'a>,
+    reach: &'a crate::motion::reach_cache::ReachCache<'a>,
     inst: &'a Instance,
     placement: &'a Placement,
     items: Vec<Item>,
@@ -483,7 +483,7 @@ pub fn solve(
     }
     cands.sort_by(|a, b| a.seq_len.cmp(&b.seq_len).then(a.area.total_cmp(&b.area)));
     let home = [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)];
-    let reach = crate::robot::reach_cache::ReachCache::new(inst, placement);
+    let reach = crate::motion::reach_cache::ReachCache::new(inst, placement);
     let mut nodes = 0u64;
     let mut evaluated = 0u64;
     let mut status = SearchStatus::Complete;

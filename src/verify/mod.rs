@@ -6,21 +6,22 @@
 //! (`actions::Layout`) nor its slab construction; it shares only the low-level value types and
 //! predicates of [`crate::geometry`], the pure placement predicate
 //! [`Placement::violations`], the push-mechanics model of [`crate::actions::push`] and the
-//! key-point model of [`crate::robot::keypoints`] (which defines what "travel" means).
+//! key-point model of [`crate::motion::keypoints`] (which defines what "travel" means).
 //!
 //! Every violation is reported, not just the first; only a plan that cannot be read against the
 //! instance at all ([`ViolationClass::Format`] from [`Plan::placement`] / [`Plan::actions`])
 //! stops the replay.
 
 mod slabs;
+pub mod trajectories;
 
 use crate::actions::{push, Action, PlaceMode};
+use crate::geometry::Arm;
 use crate::geometry::{Axis2, Box3, PushDir, Rect, EPS};
 use crate::instance::Instance;
+use crate::motion::keypoints::{path_length, total_travel};
 use crate::placement::Placement;
 use crate::plan::{ActionEntry, Plan, FORMAT_VERSION};
-use crate::robot::keypoints::{path_length, total_travel};
-use crate::robot::Arm;
 use crate::sequence::Metrics;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -216,7 +217,7 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
     // Joint trajectories are optional in a plan; when present they are checked in full.
     let mut robot_issues = Vec::new();
     if !plan.trajectories.is_empty() {
-        for (k, message) in crate::robot::check::check_trajectories(inst, plan) {
+        for (k, message) in crate::verify::trajectories::check_trajectories(inst, plan) {
             robot_issues.push(Violation {
                 step: k.map(|k| k + 1),
                 class: ViolationClass::Robot,

@@ -5,8 +5,8 @@
 //! points are straight lines; travel is the length of these polylines for both arms, from the
 //! home pose back to home.
 
-use super::Arm;
 use crate::actions::{Action, PlaceMode};
+use crate::geometry::Arm;
 use crate::geometry::{Orientation, PushDir, Rect};
 use crate::instance::Instance;
 use crate::placement::Placement;

@@ -9,10 +9,11 @@
 //! are packed with zero gaps and fingers close on objects). All queries go through
 //! [`crate::geometry::parry_bridge`] (parry3d).
 
-use super::{Arm, RobotModel};
 use crate::geometry::parry_bridge::{solids_distance, solids_intersect, Solid};
+use crate::geometry::Arm;
 use crate::geometry::{Box3, Rect};
 use crate::instance::Instance;
+use crate::robot::RobotModel;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 /// Penetration below this (m) counts as touching, not as a collision. Objects are packed with

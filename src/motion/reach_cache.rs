@@ -1,4 +1,4 @@
-//! Reachability as a planner predicate: [`super::motion::action_reach`] (inverse kinematics of
+//! Reachability as a planner predicate: [`super::joint_plan::action_reach`] (inverse kinematics of
 //! every key pose and collision checks of the straight lines against the fixed cell, a few to
 //! tens of ms) memoised per action, since it does not depend on where the other objects are;
 //! the objects on the table that block a pick are checked against the state on every query.
@@ -7,7 +7,7 @@
 //! cheap: the memo hashes the action's fields directly (no formatted string per call) and
 //! compares whole actions on a hash match, so two actions never share an answer by accident.
 
-use super::motion::{action_reach_memo, IkMemo, Reach};
+use super::joint_plan::{action_reach_memo, IkMemo, Reach};
 use crate::actions::{Action, Layout, ObjState, PlaceMode};
 use crate::instance::Instance;
 use crate::placement::Placement;

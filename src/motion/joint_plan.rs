@@ -17,16 +17,17 @@ use super::collision::{
     arm_as_obstacles, clearance, first_collision, object_in_container, object_on_table, robot_parts, static_obstacles,
     Hand, Held, Obstacle, ObstacleKind, Part, PartKind,
 };
-use super::ik::{max_abs_diff, top_down_pose, IkSolver};
 use super::keypoints::action_keypoints;
 use super::trajectory::{
     time_segment, ActionTrajectory, KeyPose, RobotInfo, TrajPoint, TrajectoryOptions, GRIPPER_DWELL,
 };
-use super::{Arm, RobotError};
 use crate::actions::{Action, PlaceMode};
+use crate::geometry::Arm;
 use crate::geometry::{Axis2, BodyAxis, PushDir, Rect};
 use crate::instance::Instance;
 use crate::placement::Placement;
+use crate::robot::ik::{max_abs_diff, top_down_pose, IkSolver};
+use crate::robot::RobotError;
 use nalgebra::{Isometry3, Vector3};
 use std::cell::RefCell;
 use std::collections::HashMap;

@@ -8,7 +8,7 @@
 //! acceleration within `velocity_scale² × a_max`. The segment is then sampled every ≤ `sample_dt`
 //! seconds (positions interpolated linearly between the waypoints, velocities from the profile).
 
-use super::Arm;
+use crate::geometry::Arm;
 use serde::{Deserialize, Serialize};
 
 /// Default joint acceleration limit (rad/s²) — the URDF has none; MoveIt's nextage_moveit_config

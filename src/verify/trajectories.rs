@@ -5,13 +5,13 @@
 //! (joint steps and velocities between consecutive points), the straight-line pushes, the arms'
 //! start and end at home, and collisions at every point and between consecutive points.
 
-use super::ik::pose_residual;
-use super::keypoints::action_keypoints;
-use super::motion::{apply_action, collision_at, idle_arm, line_distance, segment_hand, ObjAt, LINE_LIMIT};
-use super::{ActionTrajectory, Arm};
 use crate::actions::Action;
+use crate::geometry::Arm;
 use crate::instance::Instance;
+use crate::motion::joint_plan::{apply_action, collision_at, idle_arm, line_distance, segment_hand, ObjAt, LINE_LIMIT};
+use crate::motion::keypoints::action_keypoints;
 use crate::plan::Plan;
+use crate::robot::ik::{max_abs_diff, pose_residual};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
 /// Largest joint step between two consecutive trajectory points (rad).
@@ -162,7 +162,7 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         if qs.len() != tr.points.len() {
             continue;
         }
-        let start_gap = super::ik::max_abs_diff(&qs[0], &q_cur[arm.index()]);
+        let start_gap = max_abs_diff(&qs[0], &q_cur[arm.index()]);
         if start_gap > 1e-9 {
             issue(format!(
                 "starts at {} but the {} arm is at {} (jump {start_gap:.4} rad)",
@@ -251,7 +251,7 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
                     kissue(format!("tool is tilted {tilt:.3e} rad from top-down"));
                 }
                 match tr.points.iter().position(|p| (p.t - kp.t).abs() <= 1e-9) {
-                    Some(i) if super::ik::max_abs_diff(&qs[i], &q) <= 1e-9 => {}
+                    Some(i) if max_abs_diff(&qs[i], &q) <= 1e-9 => {}
                     Some(i) => kissue(format!(
                         "the point at t = {:.3} s is not at the key pose's joints",
                         tr.points[i].t
@@ -304,7 +304,7 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
                     .unwrap_or(tr.key_poses.len().saturating_sub(1));
                 let hand = match action {
                     Some(a) => segment_hand(inst, &placement, a, seg, &openings, opening[arm.index()]),
-                    None => super::collision::Hand {
+                    None => crate::motion::collision::Hand {
                         opening: opening[arm.index()],
                         held: None,
                     },
@@ -330,7 +330,7 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         }
     }
     for arm in [Arm::Left, Arm::Right] {
-        let gap = super::ik::max_abs_diff(&q_cur[arm.index()], &inst.robot.home[arm.index()]);
+        let gap = max_abs_diff(&q_cur[arm.index()], &inst.robot.home[arm.index()]);
         if gap > 1e-9 {
             out.push((
                 None,
@@ -342,13 +342,6 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         }
     }
     out
-}
-
-/// The trajectories of one arm, in time order.
-pub fn arm_trajectories(plan: &Plan, arm: Arm) -> Vec<&ActionTrajectory> {
-    let mut v: Vec<&ActionTrajectory> = plan.trajectories.iter().filter(|t| t.arm == arm).collect();
-    v.sort_by(|a, b| a.t_start.total_cmp(&b.t_start));
-    v
 }
 
 /// A recorded rotation matrix as a rotation, or why it is not one. Taken as it is once it is

@@ -7,9 +7,8 @@
 //! `time_from_start.secs/nsecs`), as used by the NEXTAGE Open's ROS 1 stack (rtmros_nextage).
 //! The YAML is written by hand (no YAML serialiser dependency); the tests parse it back.
 
-use super::check::arm_trajectories;
-use super::Arm;
 use crate::error::{Error, Result};
+use crate::geometry::Arm;
 use crate::plan::Plan;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -125,7 +124,8 @@ pub struct RosJointTrajectory {
 
 /// The message of one arm (`None` when the arm never moves).
 pub fn arm_message(plan: &Plan, arm: Arm) -> Option<RosJointTrajectory> {
-    let trs: Vec<_> = arm_trajectories(plan, arm)
+    let trs: Vec<_> = plan
+        .arm_trajectories(arm)
         .into_iter()
         .filter(|t| !t.points.is_empty())
         .collect();
@@ -137,7 +137,7 @@ pub fn arm_message(plan: &Plan, arm: Arm) -> Option<RosJointTrajectory> {
         .unwrap_or_else(|| "WAIST".into());
     let mut points: Vec<RosPoint> = Vec::new();
     let mut last_t = f64::NEG_INFINITY;
-    let mk = |p: &super::TrajPoint| RosPoint {
+    let mk = |p: &crate::motion::TrajPoint| RosPoint {
         positions: p.positions.clone(),
         velocities: if p.velocities.len() == p.positions.len() {
             p.velocities.clone()
