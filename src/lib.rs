@@ -40,6 +40,7 @@ pub mod render;
 pub mod report;
 pub mod robot;
 pub mod sequence;
+pub mod status;
 pub mod verify;
 
 pub use error::{Error, Result};

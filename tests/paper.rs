@@ -95,6 +95,6 @@ fn milp_placement_is_never_worse_than_bl_in_the_plan() {
     o.placement = PlacementSolver::Milp;
     let milp = optimize(&inst, &o).unwrap().plan;
     assert!(milp.placement.occupied_area <= bl.placement.occupied_area + 1e-12);
-    assert_eq!(milp.placement.status, pushpack::placement::PlacementStatus::Optimal);
+    assert_eq!(milp.placement.status, pushpack::status::Status::Optimal);
     assert!((milp.placement.lower_bound - milp.placement.occupied_area).abs() < 1e-9);
 }

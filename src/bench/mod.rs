@@ -225,7 +225,7 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
         .spawn();
     let mut child = match child {
         Ok(c) => c,
-        Err(e) => return finish(row, RunStatus::Failed, format!("cannot start {}: {e}", exe.display())),
+        Err(e) => return finish(row, RunStatus::Error, format!("cannot start {}: {e}", exe.display())),
     };
     // Read both pipes on threads so a chatty child never blocks on a full pipe.
     let drain = |mut r: Box<dyn Read + Send>| {
@@ -247,7 +247,7 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
         Err(e) => {
             let _ = child.kill();
             let _ = child.wait();
-            return finish(row, RunStatus::Failed, format!("waiting for the run failed: {e}"));
+            return finish(row, RunStatus::Error, format!("waiting for the run failed: {e}"));
         }
     };
     let stdout = out_t.join().unwrap_or_default();
@@ -255,7 +255,7 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
     let Some(status) = status else {
         return finish(
             row,
-            RunStatus::Timeout,
+            RunStatus::Killed,
             format!("killed after the hard limit of {hard_limit} s"),
         );
     };
@@ -275,7 +275,7 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
             let tail: Vec<&str> = tail.into_iter().rev().collect();
             finish(
                 row,
-                RunStatus::Failed,
+                RunStatus::Crashed,
                 format!("run process {status}: {}", tail.join(" | ")),
             )
         }
@@ -346,10 +346,10 @@ pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
             let row = run_child(&cfg.exe, job, inst, cfg.time_limit, cfg.hard_limit);
             let (nf, nt) = {
                 let mut f = failed.lock().expect("no panics while locked");
-                match row.status {
-                    RunStatus::Failed => f.0 += 1,
-                    RunStatus::Timeout | RunStatus::NodeLimit => f.1 += 1,
-                    RunStatus::Ok => {}
+                if row.status.is_failure() {
+                    f.0 += 1;
+                } else if row.status.is_stopped() {
+                    f.1 += 1;
                 }
                 *f
             };

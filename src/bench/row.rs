@@ -2,24 +2,115 @@
 //! result files back (tolerating a last line cut short by a kill).
 
 use crate::error::{Error, Result};
+use crate::status::Status;
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// How a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+/// How a run ended: the planner's [`Status`], or one of the ways a run can fail without one
+/// (docs/formats.md, "Benchmark results").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RunStatus {
-    /// The planner returned a plan (it may still fail verification; see `verify`).
-    Ok,
-    /// The planner returned an error, panicked or its process died.
-    Failed,
-    /// The run's process exceeded the hard wall-clock limit and was killed, or the library's
-    /// time limit stopped a stage before it had any plan.
-    Timeout,
-    /// A stage's node limit, or the paper sequencer's candidate cap (not the clock), stopped
-    /// it before it had any plan: a larger limit may find one, a longer time limit would not.
+    /// [`Status::Optimal`].
+    Optimal,
+    /// [`Status::Feasible`].
+    Feasible,
+    /// [`Status::Heuristic`].
+    Heuristic,
+    /// [`Status::TimeLimit`]: the library's time limit stopped a stage before any plan.
+    TimeLimit,
+    /// [`Status::NodeLimit`]: a node or candidate cap stopped a stage before any plan.
     NodeLimit,
+    /// [`Status::Cancelled`].
+    Cancelled,
+    /// [`Status::Infeasible`]: proven to have no plan. Not a failure.
+    Infeasible,
+    /// The run's process exceeded the hard wall-clock limit and was killed.
+    Killed,
+    /// The planner panicked, or its process died without a result.
+    Crashed,
+    /// The planner returned an error (bad input, a solver failure).
+    Error,
+    /// Written before format 2 of the rows; read back by [`ResultRow::upgraded`] only.
+    #[doc(hidden)]
+    #[serde(rename = "ok")]
+    LegacyOk,
+    /// Written before format 2 of the rows; read back by [`ResultRow::upgraded`] only.
+    #[doc(hidden)]
+    #[serde(rename = "failed")]
+    LegacyFailed,
+    /// Written before format 2 of the rows; read back by [`ResultRow::upgraded`] only.
+    #[doc(hidden)]
+    #[serde(rename = "timeout")]
+    LegacyTimeout,
+}
+
+impl From<Status> for RunStatus {
+    fn from(s: Status) -> RunStatus {
+        match s {
+            Status::Optimal => RunStatus::Optimal,
+            Status::Feasible => RunStatus::Feasible,
+            Status::Heuristic => RunStatus::Heuristic,
+            Status::TimeLimit => RunStatus::TimeLimit,
+            Status::NodeLimit => RunStatus::NodeLimit,
+            Status::Cancelled => RunStatus::Cancelled,
+            Status::Infeasible => RunStatus::Infeasible,
+        }
+    }
+}
+
+impl RunStatus {
+    /// The planner's status, when the run ended with one.
+    pub fn status(self) -> Option<Status> {
+        Some(match self {
+            RunStatus::Optimal => Status::Optimal,
+            RunStatus::Feasible => Status::Feasible,
+            RunStatus::Heuristic => Status::Heuristic,
+            RunStatus::TimeLimit => Status::TimeLimit,
+            RunStatus::NodeLimit => Status::NodeLimit,
+            RunStatus::Cancelled => Status::Cancelled,
+            RunStatus::Infeasible => Status::Infeasible,
+            _ => return None,
+        })
+    }
+
+    /// True for the ways a run fails: killed, crashed, or an error.
+    pub fn is_failure(self) -> bool {
+        matches!(
+            self,
+            RunStatus::Killed | RunStatus::Crashed | RunStatus::Error | RunStatus::LegacyFailed
+        )
+    }
+
+    /// True when a limit (time, nodes, hard kill, cancel) ended the run before any plan.
+    pub fn is_stopped(self) -> bool {
+        matches!(
+            self,
+            RunStatus::TimeLimit | RunStatus::NodeLimit | RunStatus::Cancelled | RunStatus::Killed
+        )
+    }
+
+    /// The name written in result files.
+    pub fn as_str(self) -> &'static str {
+        match self.status() {
+            Some(s) => s.as_str(),
+            None => match self {
+                RunStatus::Killed => "killed",
+                RunStatus::Crashed => "crashed",
+                RunStatus::LegacyOk => "ok",
+                RunStatus::LegacyFailed => "failed",
+                RunStatus::LegacyTimeout => "timeout",
+                _ => "error",
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 /// One result row (docs/formats.md, "Benchmark results"). `None` fields are empty in CSV and
@@ -48,7 +139,7 @@ pub struct ResultRow {
     pub status: RunStatus,
     /// Error message of a failed or timed-out run.
     pub error: Option<String>,
-    /// Placement status (`optimal` or `feasible`).
+    /// Placement stage status ([`Status`]: `optimal`, `feasible` or `heuristic`).
     pub placement_status: Option<String>,
     /// Occupied area (m²).
     pub occupied_area: Option<f64>,
@@ -78,7 +169,7 @@ pub struct ResultRow {
     pub travel: Option<f64>,
     /// Smallest push stability margin over the plan's pushes (m); none without pushes.
     pub min_push_margin: Option<f64>,
-    /// Sequencer status (`complete`, `node_limit`, `time_limit`).
+    /// Sequence stage status ([`Status`]: `optimal`, `feasible` or `heuristic`).
     pub sequence_status: Option<String>,
     /// Proven lower bound on the number of actions (A* only).
     pub sequence_bound_len: Option<usize>,
@@ -181,17 +272,47 @@ pub fn tool_version() -> (String, String) {
 }
 
 impl ResultRow {
-    /// The row as the current version writes it: rows from before the `node_limit` status
-    /// (commit 3ff21f3) recorded a node-limit stop as `timeout`, naming the limit in `error`.
-    fn upgraded(mut self) -> Self {
-        if self.status == RunStatus::Timeout
-            && self
-                .error
-                .as_deref()
-                .is_some_and(|e| e.contains(&format!("stopped by its {}", crate::error::NODE_LIMIT)))
-        {
-            self.status = RunStatus::NodeLimit;
-        }
+    /// The row as the current version writes it. Rows from before the one outcome vocabulary
+    /// said `ok`, `failed` or `timeout`, and used the sequencer's own words (`complete`): they
+    /// are restated in [`Status`] terms from the planner that ran, so that the paper's sequencer
+    /// is never read back as a proof.
+    pub fn upgraded(mut self) -> Self {
+        let paper = super::spec::PlannerSpec::parse(&self.planner, "planner")
+            .is_ok_and(|s| s.sequencer == crate::plan::Sequencer::Paper);
+        let bl = self.planner.starts_with("bl");
+        let placement = match self.placement_status.as_deref() {
+            Some("optimal") => Some(Status::Optimal),
+            Some("feasible") if bl => Some(Status::Heuristic),
+            Some("feasible") => Some(Status::Feasible),
+            Some(other) => serde_json::from_value(serde_json::Value::from(other)).ok(),
+            None => None,
+        };
+        let sequence = match self.sequence_status.as_deref() {
+            Some(_) if paper => Some(Status::Heuristic),
+            Some("complete") => Some(Status::Optimal),
+            Some("node_limit" | "time_limit") => Some(Status::Feasible),
+            Some(other) => serde_json::from_value(serde_json::Value::from(other)).ok(),
+            None => None,
+        };
+        self.placement_status = placement.map(|s| s.as_str().to_string());
+        self.sequence_status = sequence.map(|s| s.as_str().to_string());
+        let error = self.error.clone().unwrap_or_default();
+        self.status = match self.status {
+            RunStatus::LegacyOk => match (placement, sequence) {
+                (Some(p), Some(q)) => Status::combine(&[p, q]).into(),
+                _ => RunStatus::Feasible,
+            },
+            RunStatus::LegacyFailed if error.starts_with("panic") || error.starts_with("run process") => {
+                RunStatus::Crashed
+            }
+            RunStatus::LegacyFailed => RunStatus::Error,
+            RunStatus::LegacyTimeout if error.starts_with("killed after") => RunStatus::Killed,
+            RunStatus::LegacyTimeout if error.contains(&format!("stopped by its {}", crate::error::NODE_LIMIT)) => {
+                RunStatus::NodeLimit
+            }
+            RunStatus::LegacyTimeout => RunStatus::TimeLimit,
+            s => s,
+        };
         self
     }
 
@@ -202,19 +323,14 @@ impl ResultRow {
 
     /// True when the run produced a plan that the verifier accepts.
     pub fn solved(&self) -> bool {
-        self.status == RunStatus::Ok && self.verify.as_deref() == Some("valid")
+        self.status.status().is_some_and(Status::has_solution) && self.verify.as_deref() == Some("valid")
     }
 
-    /// True when both stages proved their result optimal: placement `optimal`, and an A* search
-    /// that ran to `complete`. The paper's sequencer also ends `complete` when it has searched
-    /// its candidate space, but that space is a heuristic's, so its plans are never proven.
+    /// True when the run's plan is verified and proven optimal: the placement proven optimal,
+    /// and the sequence proven optimal for it ([`Status::combine`]). Heuristic stages (the
+    /// paper's sequencer, Bottom-Left) never are.
     pub fn proven(&self) -> bool {
-        let proving_sequencer = super::spec::PlannerSpec::parse(&self.planner, "planner")
-            .is_ok_and(|s| s.sequencer == crate::plan::Sequencer::Astar);
-        self.solved()
-            && proving_sequencer
-            && self.placement_status.as_deref() == Some("optimal")
-            && self.sequence_status.as_deref() == Some("complete")
+        self.solved() && self.status == RunStatus::Optimal
     }
 
     /// The row as JSON with the timing fields removed (for comparing runs).
@@ -393,11 +509,11 @@ mod tests {
     fn solved_and_complete(planner: &str) -> ResultRow {
         let mut r = sample("a", planner);
         r.error = None;
-        r.status = RunStatus::Ok;
+        r.status = RunStatus::LegacyOk;
         r.verify = Some("valid".into());
         r.placement_status = Some("optimal".into());
         r.sequence_status = Some("complete".into());
-        r
+        r.upgraded()
     }
 
     #[test]
@@ -407,9 +523,19 @@ mod tests {
         // The paper's sequencer searched its whole candidate space: still a heuristic.
         assert!(!solved_and_complete("milp+paper").proven());
         assert!(!solved_and_complete("bl+paper").proven());
-        let mut r = solved_and_complete("milp+astar");
+        assert_eq!(solved_and_complete("milp+paper").status, RunStatus::Heuristic);
+        let mut r = sample("a", "milp+astar");
+        r.status = RunStatus::LegacyOk;
+        r.verify = Some("valid".into());
         r.placement_status = Some("feasible".into());
-        assert!(!r.proven());
+        r.sequence_status = Some("complete".into());
+        let r = r.upgraded();
+        assert_eq!(r.status, RunStatus::Feasible);
+        assert!(r.solved() && !r.proven());
+        let mut k = sample("a", "milp+astar");
+        k.status = RunStatus::LegacyTimeout;
+        k.error = Some("killed after the hard limit of 9 s".into());
+        assert_eq!(k.upgraded().status, RunStatus::Killed);
     }
 
     #[test]
@@ -426,7 +552,7 @@ mod tests {
     #[test]
     fn csv_quotes_and_jsonl_survives_a_torn_last_line() {
         let r = sample("a,b", "bl+paper");
-        assert_eq!(r.status, RunStatus::Failed);
+        assert_eq!(r.status, RunStatus::Error);
         let rec = r.to_csv_record();
         assert!(rec.starts_with("\"a,b\","));
         assert!(rec.contains("\"boom, \"\"quoted\"\"\""));

@@ -32,7 +32,7 @@ pub fn base_row(path: &str, inst: &Instance, spec: &PlannerSpec, time_limit: f64
         planner: spec.to_string(),
         seed: inst.settings.seed,
         time_limit_s: time_limit,
-        status: RunStatus::Failed,
+        status: RunStatus::Error,
         error: None,
         placement_status: None,
         occupied_area: None,
@@ -94,7 +94,10 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
         Ok::<_, crate::error::Error>((out, plan_time, report, t.elapsed().as_secs_f64()))
     }));
     match result {
-        Err(p) => row.error = Some(format!("panic: {}", panic_message(p.as_ref()))),
+        Err(p) => {
+            row.status = RunStatus::Crashed;
+            row.error = Some(format!("panic: {}", panic_message(p.as_ref())));
+        }
         Ok(Err(e)) => {
             // A run stopped before any plan ran out of time (or nodes); it proved nothing.
             if let crate::error::Error::Stopped { limit, min_actions, .. } = &e {
@@ -102,9 +105,12 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
                 row.status = if limit == crate::error::NODE_LIMIT || limit == crate::error::CANDIDATE_LIMIT {
                     RunStatus::NodeLimit
                 } else {
-                    RunStatus::Timeout
+                    RunStatus::TimeLimit
                 };
                 row.sequence_bound_len = *min_actions;
+            }
+            if let crate::error::Error::Infeasible { .. } = &e {
+                row.status = RunStatus::Infeasible;
             }
             row.error = Some(e.to_string());
         }
@@ -112,8 +118,8 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
             let plan = &out.plan;
             let m = plan.metrics;
             let (ps, ss) = (&plan.solver.placement, &plan.solver.sequence);
-            row.status = RunStatus::Ok;
-            row.placement_status = Some(ps.status.clone());
+            row.status = plan.status.into();
+            row.placement_status = Some(ps.status.as_str().to_string());
             row.occupied_area = Some(plan.placement.occupied_area);
             row.placement_bound = Some(plan.placement.lower_bound);
             row.placement_gap = Some(plan.placement.gap);
@@ -127,7 +133,7 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
             row.swept_area = Some(m.swept_area);
             row.travel = Some(m.travel);
             row.min_push_margin = plan.actions.iter().filter_map(|a| a.margin).reduce(f64::min);
-            row.sequence_status = Some(ss.status.clone());
+            row.sequence_status = Some(ss.status.as_str().to_string());
             row.sequence_bound_len = ss.cost_bound.map(|c| c.len);
             row.sequence_bound_area = ss.cost_bound.map(|c| c.area);
             row.sequence_bound_travel = ss.cost_bound.map(|c| c.travel);

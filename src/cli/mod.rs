@@ -635,14 +635,14 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
     let ps = &o.plan.placement;
     println!("instance   {} ({} objects)", inst.name, inst.n());
     println!(
+        "status     {} (placement {}, sequence {})",
+        o.plan.status, ps.status, o.plan.solver.sequence.status
+    );
+    println!(
         "placement  {}: occupied area {:.1} cm² ({}; lower bound {:.1} cm², gap {:.1} %), contact {:.1} cm",
         ps.solver,
         ps.occupied_area * 1e4,
-        if ps.status == crate::placement::PlacementStatus::Optimal {
-            "optimal"
-        } else {
-            "feasible"
-        },
+        ps.status,
         ps.lower_bound * 1e4,
         ps.gap * 100.0,
         ps.contact_length * 100.0
@@ -662,7 +662,7 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
     );
     println!("swept area {:.1} cm²   travel {:.3} m", m.swept_area * 1e4, m.travel);
     let ss = &o.plan.solver.sequence;
-    if let Some(b) = ss.cost_bound.filter(|_| ss.status != "complete") {
+    if let Some(b) = ss.cost_bound.filter(|_| ss.status != crate::status::Status::Optimal) {
         // Stopped early: the per-component bounds the plan is measured against.
         println!(
             "bound      ≥ {} actions (gap {:.1} %), ≥ {:.1} cm² swept, ≥ {:.3} m travel",
@@ -673,12 +673,21 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
         );
     }
     println!(
-        "time       placement {:.3} s ({} nodes), sequence {:.3} s ({} nodes, {} assignments, {})",
+        "time       placement {:.3} s ({} nodes), sequence {:.3} s ({} nodes, {} assignments{})",
         o.plan.solver.placement.time_s,
         o.plan.solver.placement.nodes,
         o.plan.solver.sequence.time_s,
         o.plan.solver.sequence.nodes,
         o.plan.solver.sequence.assignments.unwrap_or(0),
-        o.plan.solver.sequence.status
+        match o.plan.solver.sequence.stopped_by {
+            Some(l) => format!(
+                ", stopped by the {} limit",
+                serde_json::to_value(l)
+                    .ok()
+                    .and_then(|v| v.as_str().map(String::from))
+                    .unwrap_or_default()
+            ),
+            None => String::new(),
+        }
     );
 }

@@ -12,13 +12,15 @@ use crate::geometry::{Axis2, Orientation, PushDir, Rect};
 use crate::instance::Instance;
 use crate::motion::keypoints::{action_keypoints, path_length, KeyPoint};
 use crate::placement::{self, Placement, PlacementResult, PlacementStatus, Target};
-use crate::sequence::{self, Metrics, SequenceOptions, SequenceResult};
+use crate::sequence::{self, Metrics, SearchStatus, SequenceOptions, SequenceResult};
+use crate::status::{Limit, Status};
 use serde::{Deserialize, Serialize};
 
 pub mod export;
 
-/// Version of the `plan.json` schema.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the `plan.json` schema. Version 2 states every outcome in the one vocabulary of
+/// [`Status`]; version 1 files are still read ([`Plan::load`] upgrades them).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Which placement solver to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -151,8 +153,8 @@ pub struct InstanceRef {
 /// Summary of the placement stage.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlacementSummary {
-    /// `optimal` or `feasible`.
-    pub status: PlacementStatus,
+    /// What the placement stage proved (`optimal`, `feasible` or `heuristic`).
+    pub status: Status,
     /// Occupied area (m²).
     pub occupied_area: f64,
     /// Proven lower bound on the occupied area (m²).
@@ -242,8 +244,11 @@ pub struct ActionEntry {
 /// Statistics of one stage.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StageStats {
-    /// Stage status (`optimal`, `feasible`, `complete`, `node_limit`, `time_limit`).
-    pub status: String,
+    /// What the stage proved ([`Status`]).
+    pub status: Status,
+    /// What stopped the stage before it finished its proof, if anything did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stopped_by: Option<Limit>,
     /// Wall-clock seconds.
     pub time_s: f64,
     /// Nodes (or orders) explored.
@@ -280,6 +285,8 @@ pub struct Plan {
     pub tool: ToolInfo,
     /// Instance reference.
     pub instance: InstanceRef,
+    /// What the whole run proved: [`Status::combine`] of the placement and sequence stages.
+    pub status: Status,
     /// Options used.
     pub options: PlanOptions,
     /// Placement summary.
@@ -324,14 +331,18 @@ impl Plan {
             path: path.to_path_buf(),
             source: e,
         })?;
-        let mut de = serde_json::Deserializer::from_str(&text);
-        serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            Error::input(
-                path.display().to_string(),
-                e.path().to_string(),
-                e.into_inner().to_string(),
-            )
-        })
+        Plan::from_json(&text, &path.display().to_string())
+    }
+
+    /// Parse a plan document (version 1 or 2); `file` names it in errors.
+    pub fn from_json(text: &str, file: &str) -> Result<Plan> {
+        let bad = |field: String, reason: String| Error::input(file, field, reason);
+        let mut doc: serde_json::Value = serde_json::from_str(text).map_err(|e| bad(String::new(), e.to_string()))?;
+        if doc["format_version"].as_u64() == Some(1) {
+            upgrade_v1(&mut doc);
+        }
+        serde_path_to_error::deserialize(doc)
+            .map_err(|e| Error::input(file, e.path().to_string(), e.into_inner().to_string()))
     }
 
     /// Write as pretty JSON.
@@ -523,7 +534,14 @@ pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: Placem
                     placement: alt,
                     status: PlacementStatus::Feasible,
                     lower_bound: placement.lower_bound,
-                    solver: "bl".into(),
+                    // With the exact stage's bound the alternative is `feasible`, not a
+                    // heuristic's: its gap is measured against a proven bound.
+                    solver: if placement.solver == "bl" {
+                        "bl"
+                    } else {
+                        "bl-alternative"
+                    }
+                    .into(),
                     time_s: placement.time_s + alternatives_s,
                     nodes: placement.nodes,
                     subproblems: placement.subproblems,
@@ -666,12 +684,8 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
         .collect();
     let (robot, trajectories) =
         crate::motion::plan_trajectories(inst, p, &sr.actions, &crate::motion::TrajectoryOptions::default());
-    let status_name = |s: sequence::SearchStatus| {
-        serde_json::to_value(s)
-            .ok()
-            .and_then(|v| v.as_str().map(String::from))
-            .unwrap_or_default()
-    };
+    let placement_status = placement_status(pr);
+    let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
     Plan {
         format_version: FORMAT_VERSION,
         tool: ToolInfo {
@@ -683,9 +697,10 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             source: inst.source.clone(),
             digest: inst.digest.clone(),
         },
+        status: Status::combine(&[placement_status, sequence_status]),
         options: opts.clone(),
         placement: PlacementSummary {
-            status: pr.status,
+            status: placement_status,
             occupied_area: p.occupied_area(),
             lower_bound: pr.lower_bound,
             gap: pr.gap(),
@@ -698,10 +713,8 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
         metrics: sr.metrics,
         solver: SolverStats {
             placement: StageStats {
-                status: match pr.status {
-                    PlacementStatus::Optimal => "optimal".into(),
-                    PlacementStatus::Feasible => "feasible".into(),
-                },
+                status: placement_status,
+                stopped_by: None,
                 time_s: pr.time_s,
                 nodes: pr.nodes,
                 bound: Some(pr.lower_bound),
@@ -710,7 +723,8 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
                 cost_bound: None,
             },
             sequence: StageStats {
-                status: status_name(sr.status),
+                status: sequence_status,
+                stopped_by: sequence_stop,
                 time_s: sr.time_s,
                 nodes: sr.nodes,
                 bound: sr.bound.map(|b| b.travel),
@@ -731,4 +745,75 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
         robot: Some(robot),
         trajectories,
     }
+}
+
+/// The placement stage's result in the vocabulary of [`Status`]: Bottom-Left proves no bound
+/// beyond the trivial sum of areas, so its placements are `heuristic` even when they happen to
+/// meet that bound.
+pub fn placement_status(pr: &PlacementResult) -> Status {
+    match pr.status {
+        PlacementStatus::Optimal => Status::Optimal,
+        PlacementStatus::Feasible if pr.solver == "bl" => Status::Heuristic,
+        PlacementStatus::Feasible => Status::Feasible,
+    }
+}
+
+/// The sequence stage's result in the vocabulary of [`Status`], with what stopped it early.
+/// Only A* proves anything: a `complete` A* search is optimal within its action space
+/// (docs/algorithms.md); the paper's sequencer is a heuristic however its search ends.
+pub fn sequence_status(sequencer: Sequencer, search: SearchStatus) -> (Status, Option<Limit>) {
+    let stop = match search {
+        SearchStatus::Complete => None,
+        SearchStatus::NodeLimit => Some(Limit::Nodes),
+        SearchStatus::TimeLimit => Some(Limit::Time),
+    };
+    let status = match (sequencer, stop) {
+        (Sequencer::Paper, _) => Status::Heuristic,
+        (Sequencer::Astar, None) => Status::Optimal,
+        (Sequencer::Astar, Some(_)) => Status::Feasible,
+    };
+    (status, stop)
+}
+
+/// Rewrite a version-1 `plan.json` document in place as version 2. Version 1 wrote the
+/// sequencer's own words (`complete`, `node_limit`, `time_limit`) and called every Bottom-Left
+/// placement `feasible`; the options echo says which methods ran, which decides what was proven.
+fn upgrade_v1(doc: &mut serde_json::Value) {
+    use serde_json::Value;
+    let sequencer = match doc["options"]["sequencer"].as_str() {
+        Some("paper") => Sequencer::Paper,
+        _ => Sequencer::Astar,
+    };
+    let mut stages = Vec::new();
+    let placement_solver = doc["placement"]["solver"].as_str().unwrap_or("").to_string();
+    let p = match doc["placement"]["status"].as_str() {
+        Some("optimal") => Status::Optimal,
+        _ if placement_solver == "bl" => Status::Heuristic,
+        _ => Status::Feasible,
+    };
+    stages.push(p);
+    // A malformed document is left for the deserialiser to reject with its path; writing into
+    // a field that is not an object would panic.
+    if !doc.is_object() || !doc["placement"].is_object() {
+        return;
+    }
+    doc["placement"]["status"] = Value::from(p.as_str());
+    if doc["solver"]["placement"].is_object() {
+        doc["solver"]["placement"]["status"] = Value::from(p.as_str());
+    }
+    if let Some(word) = doc["solver"]["sequence"]["status"].as_str().map(str::to_string) {
+        // `as_str` succeeded, so `solver` and `sequence` are objects.
+        let search = match word.as_str() {
+            "node_limit" => SearchStatus::NodeLimit,
+            "time_limit" => SearchStatus::TimeLimit,
+            _ => SearchStatus::Complete,
+        };
+        let (s, stop) = sequence_status(sequencer, search);
+        stages.push(s);
+        doc["solver"]["sequence"]["status"] = Value::from(s.as_str());
+        if let Some(l) = stop {
+            doc["solver"]["sequence"]["stopped_by"] = serde_json::to_value(l).expect("limits serialise");
+        }
+    }
+    doc["status"] = Value::from(Status::combine(&stages).as_str());
 }

@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 use crate::geometry::Arm;
 use crate::geometry::{Axis2, PushDir, Rect};
 use crate::instance::Instance;
-use crate::placement::{Placement, PlacementResult, PlacementStatus};
+use crate::placement::{Placement, PlacementResult};
 use crate::plan::Plan;
 use std::path::{Path, PathBuf};
 use svg::{text_width, tint, Anchor, Paint, Svg};
@@ -75,7 +75,11 @@ pub fn render_placement(inst: &Instance, r: &PlacementResult, out_dir: &Path) ->
         source: e,
     })?;
     let path = out_dir.join("placement.svg");
-    std::fs::write(&path, placement_svg(inst, &r.solver, r.status, &r.placement)).map_err(|e| Error::Io {
+    std::fs::write(
+        &path,
+        placement_svg(inst, &r.solver, crate::plan::placement_status(r), &r.placement),
+    )
+    .map_err(|e| Error::Io {
         path: path.clone(),
         source: e,
     })?;
@@ -261,7 +265,7 @@ impl Story {
 // ---------------------------------------------------------------------------------------------
 // placement.svg
 
-fn placement_svg(inst: &Instance, solver: &str, status: PlacementStatus, p: &Placement) -> String {
+fn placement_svg(inst: &Instance, solver: &str, status: crate::status::Status, p: &Placement) -> String {
     let c = &inst.container;
     let t = c.wall_thickness;
     let s = (620.0 / c.width).min(440.0 / c.depth);

@@ -117,8 +117,11 @@ pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>) -> G
         runs: rows.len(),
         solved: solved.len(),
         proven: rows.iter().filter(|r| r.proven()).count(),
-        failed: rows.iter().filter(|r| r.status == RunStatus::Failed).count(),
-        timeout: rows.iter().filter(|r| r.status == RunStatus::Timeout).count(),
+        failed: rows.iter().filter(|r| r.status.is_failure()).count(),
+        timeout: rows
+            .iter()
+            .filter(|r| matches!(r.status, RunStatus::TimeLimit | RunStatus::Killed))
+            .count(),
         node_limit: rows.iter().filter(|r| r.status == RunStatus::NodeLimit).count(),
         median_time: median(&times),
         max_time: times.iter().copied().reduce(f64::max),
@@ -278,7 +281,8 @@ the same instance, over the instances this planner solved.\n"
     }
     let failures: Vec<&ResultRow> = rows
         .iter()
-        .filter(|r| r.status != RunStatus::Ok || !r.solved())
+        // A proven-infeasible run answered its question: it is not a failure.
+        .filter(|r| !r.solved() && r.status != RunStatus::Infeasible)
         .collect();
     if !failures.is_empty() {
         let _ = writeln!(s, "\n## Runs without a verified plan\n");
@@ -371,7 +375,7 @@ mod tests {
         .expect("bundled example");
         let mut r = base_row(inst, &i, &PlannerSpec::parse(planner, "p").expect("spec"), 5.0);
         if let Some(l) = len {
-            r.status = RunStatus::Ok;
+            r.status = RunStatus::Optimal;
             r.verify = Some("valid".into());
             r.seq_len = Some(l);
             r.occupied_area = Some(l as f64);

@@ -169,9 +169,10 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
         class: ViolationClass::Format,
         message,
     };
-    if plan.format_version != FORMAT_VERSION {
+    // Version 1 plans are read too: `Plan::load` restates their statuses in version 2 terms.
+    if !(1..=FORMAT_VERSION).contains(&plan.format_version) {
         out.push(fmt_err(format!(
-            "format_version {} is not {FORMAT_VERSION}",
+            "format_version {} is not one of 1..={FORMAT_VERSION}",
             plan.format_version
         )));
     }
