@@ -1,5 +1,9 @@
 //! Run control passed into long runs: when to stop ([`Terminator`]) and whom to tell ([`Listener`]).
 
+use crate::status::Status;
+use serde::Serialize;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Decides when a long-running solver must stop and return its best result so far.
@@ -35,16 +39,124 @@ impl Terminator for TimeLimit {
     }
 }
 
-/// Receives progress messages from long runs.
-pub trait Listener {
-    /// A stage reports progress.
-    fn progress(&self, stage: &str, message: &str);
+/// Stops when the caller says so: a flag shared with another thread (a Ctrl+C handler, a GUI
+/// button, a cell controller's abort).
+#[derive(Debug, Clone, Default)]
+pub struct CancelFlag(Arc<AtomicBool>);
+
+impl CancelFlag {
+    /// A flag that is not set.
+    pub fn new() -> CancelFlag {
+        CancelFlag::default()
+    }
+    /// Ask the run to stop; it returns its best result so far.
+    pub fn cancel(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+    /// True once [`cancel`](Self::cancel) was called.
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
 }
 
-/// Ignores every message.
+impl Terminator for CancelFlag {
+    fn should_stop(&self) -> bool {
+        self.is_cancelled()
+    }
+}
+
+/// Never stops.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Never;
+
+impl Terminator for Never {
+    fn should_stop(&self) -> bool {
+        false
+    }
+}
+
+/// Stops when either of two terminators does: a stage's own deadline and the caller's.
+pub(crate) struct Either<'a>(pub &'a dyn Terminator, pub &'a dyn Terminator);
+
+impl Terminator for Either<'_> {
+    fn should_stop(&self) -> bool {
+        self.0.should_stop() || self.1.should_stop()
+    }
+}
+
+/// A stage of a planning run, as progress events name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// Orientations and footprints in the container.
+    Placement,
+    /// Actions and their order.
+    Sequence,
+    /// Joint trajectories of the actions.
+    Motion,
+}
+
+impl Stage {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Placement => "placement",
+            Stage::Sequence => "sequence",
+            Stage::Motion => "motion",
+        }
+    }
+}
+
+/// What a run reports while it works.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+pub enum Event {
+    /// A stage starts, with the seconds it may use at most.
+    StageStarted {
+        /// The stage.
+        stage: Stage,
+        /// Its time budget (s).
+        budget_s: f64,
+    },
+    /// A stage ends.
+    StageFinished {
+        /// The stage.
+        stage: Stage,
+        /// What it proved.
+        status: Status,
+        /// Its wall-clock time (s).
+        time_s: f64,
+        /// Search nodes (placement: branch-and-bound nodes or Bottom-Left orders; sequence: A*
+        /// expansions or paper candidates); docs/formats.md.
+        nodes: u64,
+        /// Its objective, when it has a solution (placement: occupied area, m²; sequence:
+        /// number of actions).
+        objective: Option<f64>,
+        /// Its proven lower bound on that objective, when it has one.
+        bound: Option<f64>,
+    },
+}
+
+/// Receives progress events from a run ([`crate::plan::optimize_with`]).
+pub trait Listener {
+    /// Called at every event, on the planning thread: keep it quick.
+    fn event(&mut self, event: &Event);
+}
+
+/// Ignores every event.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Silent;
 
 impl Listener for Silent {
-    fn progress(&self, _stage: &str, _message: &str) {}
+    fn event(&mut self, _event: &Event) {}
+}
+
+/// Collects every event (for tests and for callers that report afterwards).
+#[derive(Debug, Clone, Default)]
+pub struct Recorder(pub Vec<Event>);
+
+impl Listener for Recorder {
+    fn event(&mut self, event: &Event) {
+        self.0.push(event.clone());
+    }
 }

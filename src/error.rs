@@ -2,6 +2,7 @@
 //!
 //! A solver that stops early is *not* an error: it returns a result whose status says so.
 
+use crate::status::Status;
 use std::path::PathBuf;
 
 /// `Error::Stopped::limit` of a stop by the clock.
@@ -76,6 +77,18 @@ impl Error {
             file: file.into(),
             field: field.into(),
             reason: reason.into(),
+        }
+    }
+
+    /// The outcome of a run that ended without a solution for a reason that is a status, not a
+    /// fault: a limit stopped it ([`Status::TimeLimit`], [`Status::NodeLimit`]) or it proved
+    /// that none exists ([`Status::Infeasible`]). `None` for real errors.
+    pub fn status(&self) -> Option<Status> {
+        match self {
+            Error::Infeasible { .. } => Some(Status::Infeasible),
+            Error::Stopped { limit, .. } if limit == TIME_LIMIT => Some(Status::TimeLimit),
+            Error::Stopped { .. } => Some(Status::NodeLimit),
+            _ => None,
         }
     }
 

@@ -1,34 +1,41 @@
 //! # pushpack — dense box packing by picking, placing and pushing
 //!
-//! Given rectangular boxes on a table and an open container, pushpack plans how a dual-arm
-//! robot (Kawada NEXTAGE Open) packs them with no gap between them, following and extending
-//! *Planning Dense Object Packing by Pushing Objects*. The pipeline, one module per stage:
+//! Boxes `i = 1…n` with footprints `wᵢ × dᵢ` (one per allowed orientation) lie on a table; an
+//! open container of width `W` and depth `D` waits for them. pushpack solves, lexicographically,
 //!
-//! 1. [`instance`] — load and validate the problem (TOML/JSON).
-//! 2. [`placement`] — choose each box's orientation and footprint `[x, x+w] × [y, y+d]` in the
-//!    container frame C, minimising the occupied area `max(x+w) · max(y+d)`, then maximising
-//!    contact length, subject to non-overlap and Bottom-Left stability.
-//! 3. [`actions`] — place a box directly, or release it at `target − d·u` and push it along
-//!    `u ∈ {−x, −y}`, possibly with others in one line; feasibility (finger slabs, swept space)
-//!    and push stability (quasi-static Coulomb friction).
-//! 4. [`sequence`] — choose the actions and their order: lexicographically minimise the number
-//!    of actions, the swept area, then the gripper travel.
-//! 5. [`robot`] — NEXTAGE Open kinematics (URDF) and the TCP key points of each action.
-//! 6. [`plan`] — the composer [`plan::optimize`] and the `plan.json` file.
-//! 7. [`verify`] — an independent replay of a plan; [`render`] — SVG pictures.
+//! 1. **placement**: `min max(xᵢ + wᵢ) · max(yᵢ + dᵢ)` over orientations and positions with
+//!    `0 ≤ xᵢ, xᵢ + wᵢ ≤ W`, `0 ≤ yᵢ, yᵢ + dᵢ ≤ D` and pairwise non-overlap, then the largest
+//!    contact length among minimum-area placements — proven by an exact search, or its bound
+//!    and gap reported;
+//! 2. **sequence**: actions (place directly; release at `target − δ·u` and push along
+//!    `u ∈ {−x, −y}`, alone or in a line) and their order, minimising the number of actions,
+//!    then the swept area, then the gripper travel, subject to finger slabs, swept space, reach
+//!    and quasi-static push stability (Coulomb friction, convex programs);
+//! 3. **motion**: joint trajectories of a Kawada NEXTAGE Open for every action.
+//!
+//! Every result carries a [`Status`] saying what is proven: `optimal` only with a bound that
+//! meets the objective; Bottom-Left and the paper's sequencer are `heuristic`.
+//!
+//! The folder listing is the pipeline, bottom to top (each imports only modules below it):
+//! [`geometry`], [`error`], [`status`] → [`control`] → [`robot`] (URDF model, FK, IK) →
+//! [`instance`] → [`placement`] → [`actions`] → [`motion`] → [`sequence`] → [`plan`] (the
+//! composer and `plan.json`) → [`verify`], [`render`] → `bench` → `report` (the last two, and
+//! the `pushpack` command, only with the default `cli` feature).
 //!
 //! ```no_run
-//! use pushpack::{instance::Instance, plan::{optimize, PlanOptions}};
+//! use pushpack::{optimize_with, CancelFlag, Instance, PlanOptions, Recorder};
 //! let inst = Instance::load("instances/paper/exp2_8objects.toml")?;
-//! let out = optimize(&inst, &PlanOptions::from_instance(&inst))?;
-//! println!("{} actions", out.plan.metrics.seq_len);
-//! # Ok::<(), pushpack::error::Error>(())
+//! let cancel = CancelFlag::new(); // cancel() from another thread stops with the best plan
+//! let out = optimize_with(&inst, &PlanOptions::from_instance(&inst), &cancel, &mut Recorder::default())?;
+//! println!("{}: {} actions", out.plan.status, out.plan.metrics.seq_len);
+//! assert!(pushpack::verify(&inst, &out.plan).is_valid());
+//! # Ok::<(), pushpack::Error>(())
 //! ```
 #![warn(missing_docs)]
 
 pub mod actions;
+#[cfg(feature = "cli")]
 pub mod bench;
-pub mod cli;
 pub mod control;
 pub mod error;
 pub mod geometry;
@@ -37,10 +44,18 @@ pub mod motion;
 pub mod placement;
 pub mod plan;
 pub mod render;
+#[cfg(feature = "cli")]
 pub mod report;
 pub mod robot;
 pub mod sequence;
 pub mod status;
 pub mod verify;
 
+pub use actions::Action;
+pub use control::{CancelFlag, Event, Listener, Recorder, Silent, Terminator, TimeLimit};
 pub use error::{Error, Result};
+pub use instance::{Instance, InstanceBuilder};
+pub use placement::Placement;
+pub use plan::{optimize, optimize_with, Plan, PlanOptions, PlanOutcome};
+pub use status::{Limit, Status};
+pub use verify::{verify, Report};

@@ -1,8 +1,11 @@
-//! The `pushpack` command: a thin wrapper around [`pushpack::cli::main`].
+//! The `pushpack` command: a thin wrapper around [`cli::main`]. The command line lives in the
+//! binary, not the library, so library users compile no argument parser.
+
+mod cli;
 
 fn main() {
     restore_sigpipe();
-    std::process::exit(pushpack::cli::main());
+    std::process::exit(cli::main());
 }
 
 /// Rust ignores SIGPIPE, so `println!` panics when the reader has gone

@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 /// Bottom to top. Modules on the same level may not use each other either.
 const LAYERS: &[&[&str]] = &[
-    &["geometry", "error", "control", "status"],
+    &["geometry", "status"],
+    &["error"],
+    &["control"],
     &["robot"],
     &["instance"],
     &["placement"],

@@ -99,18 +99,13 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
             row.error = Some(format!("panic: {}", panic_message(p.as_ref())));
         }
         Ok(Err(e)) => {
-            // A run stopped before any plan ran out of time (or nodes); it proved nothing.
-            if let crate::error::Error::Stopped { limit, min_actions, .. } = &e {
-                // A cap on work or memory, not the clock: a longer time limit would not help.
-                row.status = if limit == crate::error::NODE_LIMIT || limit == crate::error::CANDIDATE_LIMIT {
-                    RunStatus::NodeLimit
-                } else {
-                    RunStatus::TimeLimit
-                };
-                row.sequence_bound_len = *min_actions;
+            // A run stopped by a limit, or proven to have no plan, ended with a status; any
+            // other error stays an error.
+            if let Some(status) = e.status() {
+                row.status = status.into();
             }
-            if let crate::error::Error::Infeasible { .. } = &e {
-                row.status = RunStatus::Infeasible;
+            if let crate::error::Error::Stopped { min_actions, .. } = &e {
+                row.sequence_bound_len = *min_actions;
             }
             row.error = Some(e.to_string());
         }

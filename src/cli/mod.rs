@@ -1,15 +1,15 @@
 //! Command-line interface: parses arguments, calls the library, prints, and maps errors to exit
 //! codes (0 ok, 1 plan invalid or infeasible, 2 bad input).
 
-use crate::error::Error;
-use crate::instance::{Instance, MAX_TIME_LIMIT};
-use crate::plan::{
-    optimize, sequence_placement, solve_placement, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer,
-};
-use crate::render::{render, render_placement};
-use crate::verify::verify;
 use clap::{Args, Parser, Subcommand};
+use pushpack::error::Error;
+use pushpack::instance::{Instance, MAX_TIME_LIMIT};
+use pushpack::plan::{optimize, optimize_stages, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer};
+use pushpack::render::{render, render_placement};
+use pushpack::verify::verify;
 use std::path::{Path, PathBuf};
+
+mod progress;
 
 /// Exit code for success.
 pub const EXIT_OK: i32 = 0;
@@ -324,7 +324,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 PlacementSolver::Bl
             };
             let t = positive_time(time_limit, "--time-limit")?.unwrap_or(inst.settings.time_limit);
-            let (r, report) = crate::plan::solve_placement_report(
+            let (r, report) = pushpack::plan::solve_placement_report(
                 &inst,
                 solver,
                 seed.unwrap_or(inst.settings.seed),
@@ -385,14 +385,21 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             if compare_ablations {
                 print_ablations(&inst, &o)?;
             }
-            let placed = solve_placement(&inst, o.placement, o.seed, o.bl_orders, o.time_limit)?;
             std::fs::create_dir_all(&out).map_err(|e| Error::Io {
                 path: out.clone(),
                 source: e,
             })?;
-            let outcome = match sequence_placement(&inst, &o, placed.clone()) {
-                Ok(x) => x,
-                Err(e) => {
+            let cancel = progress::cancel_on_ctrl_c();
+            let mut bar = progress::Progress::new();
+            let (placed, result) = optimize_stages(&inst, &o, &cancel, &mut bar);
+            bar.finish();
+            let outcome = match (placed, result) {
+                (_, Ok(x)) => x,
+                (None, Err(e)) => return Err(e),
+                (Some(placed), Err(e)) => {
+                    if let Some(status) = e.status() {
+                        eprintln!("status     {status}: no plan ({e})");
+                    }
                     // No plan.json without a sequence, but the placement was found and is the
                     // first thing a user looks at to see why: write it and say where.
                     let path = out.join("placement.json");
@@ -451,21 +458,21 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
         }
         Cmd::Export { plan, format, out } => {
             let p = Plan::load(&plan)?;
-            let fmt: crate::plan::export::ExportFormat = format
+            let fmt: pushpack::plan::export::ExportFormat = format
                 .parse()
                 .map_err(|e: String| Error::input("<command line>", "--format", e))?;
             std::fs::create_dir_all(&out).map_err(|e| Error::Io {
                 path: out.clone(),
                 source: e,
             })?;
-            for f in crate::plan::export::export(&p, fmt, &out)? {
+            for f in pushpack::plan::export::export(&p, fmt, &out)? {
                 println!("wrote {}", f.display());
             }
             Ok(EXIT_OK)
         }
         Cmd::PushCheck { scenario, json } => {
-            let sc = crate::actions::push::load_scenario(&scenario)?;
-            let report = crate::actions::push::check_scenario(&sc);
+            let sc = pushpack::actions::push::load_scenario(&scenario)?;
+            let report = pushpack::actions::push::check_scenario(&sc);
             if json {
                 println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
             } else {
@@ -483,7 +490,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             size_range,
             orientations,
         } => {
-            use crate::bench::sets::{generate_set, parse_numbers, SetParams};
+            use pushpack::bench::sets::{generate_set, parse_numbers, SetParams};
             let p = SetParams {
                 objects,
                 kinds,
@@ -524,14 +531,14 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 Some(j) => j,
                 None => std::thread::available_parallelism().map_or(1, |n| n.get()),
             };
-            let cfg = crate::bench::BenchConfig {
+            let cfg = pushpack::bench::BenchConfig {
                 instances,
-                planners: crate::bench::spec::PlannerSpec::parse_list(&planners, "--planners")?,
+                planners: pushpack::bench::spec::PlannerSpec::parse_list(&planners, "--planners")?,
                 time_limit,
                 hard_limit,
                 jobs,
                 out,
-                shard: shard.as_deref().map(crate::bench::Shard::parse).transpose()?,
+                shard: shard.as_deref().map(pushpack::bench::Shard::parse).transpose()?,
                 resume,
                 max_runs,
                 exe: std::env::current_exe().map_err(|e| Error::Io {
@@ -539,7 +546,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                     source: e,
                 })?,
             };
-            let s = crate::bench::run_batch(&cfg)?;
+            let s = pushpack::bench::run_batch(&cfg)?;
             println!(
                 "bench: {} runs in this shard, {} already done, {} run now ({} failed, {} stopped by a time or node limit), {} left; results in {}",
                 s.total,
@@ -557,15 +564,15 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             planner,
             time_limit,
         } => {
-            let spec = crate::bench::spec::PlannerSpec::parse(&planner, "--planner")?;
+            let spec = pushpack::bench::spec::PlannerSpec::parse(&planner, "--planner")?;
             let time_limit = positive_time(Some(time_limit), "--time-limit")?.unwrap_or(time_limit);
             let inst = Instance::load(&instance)?;
-            let row = crate::bench::run::run_in_process(&instance.display().to_string(), &inst, &spec, time_limit);
+            let row = pushpack::bench::run::run_in_process(&instance.display().to_string(), &inst, &spec, time_limit);
             println!("{}", row.to_json_line());
             Ok(EXIT_OK)
         }
         Cmd::Report { results, out } => {
-            let files = crate::report::write_report(&results, &out)?;
+            let files = pushpack::report::write_report(&results, &out)?;
             for f in files {
                 println!("wrote {}", f.display());
             }
@@ -662,7 +669,7 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
     );
     println!("swept area {:.1} cm²   travel {:.3} m", m.swept_area * 1e4, m.travel);
     let ss = &o.plan.solver.sequence;
-    if let Some(b) = ss.cost_bound.filter(|_| ss.status != crate::status::Status::Optimal) {
+    if let Some(b) = ss.cost_bound.filter(|_| ss.status != pushpack::status::Status::Optimal) {
         // Stopped early: the per-component bounds the plan is measured against.
         println!(
             "bound      ≥ {} actions (gap {:.1} %), ≥ {:.1} cm² swept, ≥ {:.3} m travel",

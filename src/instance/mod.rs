@@ -5,8 +5,11 @@
 //! reason. After loading, every invariant the later stages rely on holds (positive finite sizes,
 //! at least one orientation that fits, no overlap on the table, reachable start poses, …).
 
+mod builder;
 pub mod file;
 pub mod generate;
+
+pub use builder::{GripperSpec, InstanceBuilder, Orientations, Units};
 
 use crate::error::{Error, Result};
 use crate::geometry::Arm;

@@ -5,7 +5,7 @@
 //! [`Action`]s against an instance, rejecting unknown ids and malformed entries.
 
 use crate::actions::{Action, PlaceMode};
-use crate::control::{Terminator, TimeLimit};
+use crate::control::{Either, Event, Listener, Never, Silent, Stage, Terminator, TimeLimit};
 use crate::error::{Error, Result};
 use crate::geometry::Arm;
 use crate::geometry::{Axis2, Orientation, PushDir, Rect};
@@ -54,18 +54,31 @@ pub fn solve_placement_report(
     bl_orders: usize,
     time_limit: f64,
 ) -> Result<(PlacementResult, Option<placement::milp::MilpReport>)> {
-    let limit = TimeLimit::new(time_limit);
+    solve_placement_with(inst, solver, seed, bl_orders, time_limit, &Never)
+}
+
+/// [`solve_placement_report`] that also stops when `stop` says so (a cancel flag).
+pub fn solve_placement_with(
+    inst: &Instance,
+    solver: PlacementSolver,
+    seed: u64,
+    bl_orders: usize,
+    time_limit: f64,
+    stop: &dyn Terminator,
+) -> Result<(PlacementResult, Option<placement::milp::MilpReport>)> {
+    let clock = TimeLimit::new(time_limit);
+    let limit = Either(&clock, stop);
     let bl = placement::bl::solve(inst, seed, bl_orders, &limit);
     match solver {
         PlacementSolver::Bl => bl.map(|r| (r, None)),
         PlacementSolver::Milp => {
             let settings = placement::milp::MilpSettings {
-                time_limit: (time_limit - limit.elapsed()).max(0.0),
+                time_limit: (time_limit - clock.elapsed()).max(0.0),
                 contact_stage: true,
                 seed,
             };
             // Bottom-Left finding nothing proves nothing: the exact search starts without it.
-            let warm = bl.unwrap_or_else(|_| PlacementResult::empty("bl", limit.elapsed()));
+            let warm = bl.unwrap_or_else(|_| PlacementResult::empty("bl", clock.elapsed()));
             placement::milp::solve_report(inst, &warm, &settings, &limit).map(|(r, rep)| (r, Some(rep)))
         }
     }
@@ -94,7 +107,8 @@ pub struct PlanOptions {
     pub placement: PlacementSolver,
     /// Sequencer.
     pub sequencer: Sequencer,
-    /// Time limit per stage (s).
+    /// Time limit of the whole run (s): placement, sequence and joint trajectories together
+    /// ([`RunBudget`] divides it).
     pub time_limit: f64,
     /// Node limit of the sequence search.
     pub max_nodes: u64,
@@ -491,10 +505,94 @@ pub struct PlanOutcome {
     pub sequence: SequenceResult,
 }
 
-/// Run every stage: placement, then actions and their order; return the plan.
+/// How a run's one time limit is shared between its stages.
+///
+/// The placement stage may use up to half of it (it usually needs far less, and then leaves
+/// the rest to the sequence). The joint trajectories and the verifier cannot be interrupted
+/// without losing the plan, so the sequence search stops early enough to leave them their
+/// expected time: 0.1 s per object (measured: 1.4 s for 28 actions of a 20-object plan on the
+/// reference machine, docs/benchmarks.md), at most 30 % of the limit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunBudget {
+    /// The whole run's limit (s).
+    pub total_s: f64,
+    /// Most the placement stage may use (s).
+    pub placement_s: f64,
+    /// Time kept back at the end for joint trajectories and verification (s).
+    pub motion_reserve_s: f64,
+}
+
+impl RunBudget {
+    /// The budget of a run of `inst` within `time_limit` seconds.
+    pub fn new(inst: &Instance, time_limit: f64) -> RunBudget {
+        RunBudget {
+            total_s: time_limit,
+            placement_s: 0.5 * time_limit,
+            motion_reserve_s: (0.1 * inst.n() as f64).min(0.3 * time_limit),
+        }
+    }
+
+    /// The sequence stage's limit once the placement took `placement_s`.
+    pub fn sequence_s(&self, placement_s: f64) -> f64 {
+        (self.total_s - placement_s - self.motion_reserve_s).max(0.0)
+    }
+}
+
+/// Run every stage: placement, then actions and their order, then joint trajectories; return
+/// the plan. [`PlanOptions::time_limit`] bounds the whole run ([`RunBudget`]).
 pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
-    let placement = solve_placement(inst, opts.placement, opts.seed, opts.bl_orders, opts.time_limit)?;
-    sequence_placement(inst, opts, placement)
+    optimize_with(inst, opts, &Never, &mut Silent)
+}
+
+/// [`optimize`] under the caller's control: `stop` ends the run early (a [`CancelFlag`],
+/// another deadline) and `listener` hears every stage start and finish. A run stopped during
+/// the sequence search still returns its best plan so far, with the limit that stopped it in
+/// [`StageStats::stopped_by`].
+///
+/// [`CancelFlag`]: crate::control::CancelFlag
+pub fn optimize_with(
+    inst: &Instance,
+    opts: &PlanOptions,
+    stop: &dyn Terminator,
+    listener: &mut dyn Listener,
+) -> Result<PlanOutcome> {
+    optimize_stages(inst, opts, stop, listener).1
+}
+
+/// [`optimize_with`], also returning the placement when a later stage fails (the CLI draws it).
+pub fn optimize_stages(
+    inst: &Instance,
+    opts: &PlanOptions,
+    stop: &dyn Terminator,
+    listener: &mut dyn Listener,
+) -> (Option<PlacementResult>, Result<PlanOutcome>) {
+    let budget = RunBudget::new(inst, opts.time_limit);
+    listener.event(&Event::StageStarted {
+        stage: Stage::Placement,
+        budget_s: budget.placement_s,
+    });
+    let placement = match solve_placement_with(
+        inst,
+        opts.placement,
+        opts.seed,
+        opts.bl_orders,
+        budget.placement_s,
+        stop,
+    ) {
+        Ok((p, _)) => p,
+        Err(e) => return (None, Err(e)),
+    };
+    listener.event(&Event::StageFinished {
+        stage: Stage::Placement,
+        status: placement_status(&placement),
+        time_s: placement.time_s,
+        nodes: placement.nodes,
+        objective: Some(placement.placement.occupied_area()),
+        bound: Some(placement.lower_bound),
+    });
+    let seq_s = budget.sequence_s(placement.time_s);
+    let out = sequence_placement_with(inst, opts, placement.clone(), seq_s, stop, listener);
+    (Some(placement), out)
 }
 
 /// The stages after placement: choose actions and their order for `placement`, then assemble
@@ -507,10 +605,29 @@ pub fn optimize(inst: &Instance, opts: &PlanOptions) -> Result<PlanOutcome> {
 /// sequence time limit runs out. The plan then records which alternative it used; its placement
 /// is `feasible`, with the first placement's lower bound (a bound on every placement).
 pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: PlacementResult) -> Result<PlanOutcome> {
-    let limit = TimeLimit::new(opts.time_limit);
+    let budget = RunBudget::new(inst, opts.time_limit);
+    sequence_placement_with(inst, opts, placement, budget.sequence_s(0.0), &Never, &mut Silent)
+}
+
+/// [`sequence_placement`] within `time_limit` seconds and under the caller's `stop` and
+/// `listener` ([`optimize_with`]).
+pub fn sequence_placement_with(
+    inst: &Instance,
+    opts: &PlanOptions,
+    placement: PlacementResult,
+    time_limit: f64,
+    stop: &dyn Terminator,
+    listener: &mut dyn Listener,
+) -> Result<PlanOutcome> {
+    listener.event(&Event::StageStarted {
+        stage: Stage::Sequence,
+        budget_s: time_limit,
+    });
+    let clock = TimeLimit::new(time_limit);
+    let limit = Either(&clock, stop);
     let first = sequence_one(inst, opts, &placement.placement, &limit);
     let reason = match first {
-        Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0)),
+        Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0, stop, listener)),
         Err(Error::Infeasible { reason }) if opts.placement_alternatives > 0 => reason,
         Err(e) => return Err(e),
     };
@@ -546,7 +663,7 @@ pub fn sequence_placement(inst: &Instance, opts: &PlanOptions, placement: Placem
                     nodes: placement.nodes,
                     subproblems: placement.subproblems,
                 };
-                return Ok(outcome(inst, opts, pr, sequence, tried));
+                return Ok(outcome(inst, opts, pr, sequence, tried, stop, listener));
             }
             Err(Error::Infeasible { .. }) => continue,
             Err(e) => return Err(e),
@@ -562,7 +679,7 @@ fn sequence_one(
     inst: &Instance,
     opts: &PlanOptions,
     placement: &Placement,
-    limit: &TimeLimit,
+    limit: &dyn Terminator,
 ) -> Result<SequenceResult> {
     let seq_opts = SequenceOptions {
         no_direct: opts.no_direct,
@@ -570,13 +687,13 @@ fn sequence_one(
         max_nodes: opts.max_nodes,
     };
     match opts.sequencer {
-        Sequencer::Paper => sequence::paper::solve(inst, placement, &seq_opts, limit as &dyn Terminator),
+        Sequencer::Paper => sequence::paper::solve(inst, placement, &seq_opts, limit),
         Sequencer::Astar => sequence::astar::solve(
             inst,
             placement,
             &seq_opts,
             &sequence::astar::AstarSettings::default(),
-            limit as &dyn Terminator,
+            limit,
         ),
     }
 }
@@ -587,9 +704,38 @@ fn outcome(
     placement: PlacementResult,
     sequence: SequenceResult,
     alternative: usize,
+    stop: &dyn Terminator,
+    listener: &mut dyn Listener,
 ) -> PlanOutcome {
+    let (status, _) = sequence_status(opts.sequencer, sequence.status);
+    listener.event(&Event::StageFinished {
+        stage: Stage::Sequence,
+        status,
+        time_s: sequence.time_s,
+        nodes: sequence.nodes,
+        objective: Some(sequence.metrics.seq_len as f64),
+        bound: sequence.bound.map(|b| b.len as f64),
+    });
+    listener.event(&Event::StageStarted {
+        stage: Stage::Motion,
+        budget_s: 0.0,
+    });
+    let start = std::time::Instant::now();
     let mut plan = build_plan(inst, opts, &placement, &sequence);
     plan.placement.alternative = alternative;
+    // A search the caller cancelled says so, not "time limit": the run did not run out of time.
+    if sequence.status != SearchStatus::Complete && stop.should_stop() {
+        plan.solver.sequence.stopped_by = Some(Limit::Cancel);
+    }
+    listener.event(&Event::StageFinished {
+        stage: Stage::Motion,
+        // Joint trajectories are planned, not optimised: a solution that proves nothing.
+        status: Status::Heuristic,
+        time_s: start.elapsed().as_secs_f64(),
+        nodes: plan.trajectories.len() as u64,
+        objective: None,
+        bound: None,
+    });
     PlanOutcome {
         plan,
         placement,

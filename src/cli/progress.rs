@@ -1,0 +1,73 @@
+//! Live progress of `pushpack plan` on stderr, and Ctrl+C as a clean stop.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use pushpack::control::{CancelFlag, Event, Listener};
+use std::time::Duration;
+
+/// A spinner naming the running stage and its budget; a line per finished stage. Draws only
+/// when stderr is a terminal, so pipes and logs stay clean.
+pub struct Progress {
+    bar: ProgressBar,
+}
+
+impl Progress {
+    pub fn new() -> Progress {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}").expect("a valid progress template"),
+        );
+        bar.enable_steady_tick(Duration::from_millis(120));
+        Progress { bar }
+    }
+
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl Listener for Progress {
+    fn event(&mut self, event: &Event) {
+        match event {
+            Event::StageStarted { stage, budget_s } if *budget_s > 0.0 => self.bar.set_message(format!(
+                "{} (up to {budget_s:.1} s; Ctrl+C stops with the best plan so far)",
+                stage.name()
+            )),
+            Event::StageStarted { stage, .. } => self.bar.set_message(stage.name().to_string()),
+            Event::StageFinished {
+                stage,
+                status,
+                time_s,
+                nodes,
+                objective,
+                bound,
+            } => {
+                let figures = match (objective, bound) {
+                    (Some(o), Some(b)) => format!(", objective {o:.6}, bound {b:.6}"),
+                    (Some(o), None) => format!(", objective {o:.6}"),
+                    _ => String::new(),
+                };
+                self.bar.println(format!(
+                    "{:<10} {status} in {time_s:.2} s ({nodes} nodes{figures})",
+                    stage.name()
+                ));
+            }
+        }
+    }
+}
+
+/// A flag the first Ctrl+C sets; the run then stops and writes its best plan. A second Ctrl+C
+/// ends the process at once (exit 130), for a stage that cannot stop quickly.
+pub fn cancel_on_ctrl_c() -> CancelFlag {
+    let flag = CancelFlag::new();
+    let f = flag.clone();
+    // Without a handler (another one is installed, or the platform has none) Ctrl+C keeps its
+    // default meaning: end the process.
+    let _ = ctrlc::set_handler(move || {
+        if f.is_cancelled() {
+            std::process::exit(130);
+        }
+        eprintln!("\nstopping: finishing the current step and writing the best plan so far (Ctrl+C again to quit now)");
+        f.cancel();
+    });
+    flag
+}

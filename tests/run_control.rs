@@ -1,0 +1,112 @@
+//! One run control for the whole run: a terminator that fires mid-run stops it with the best
+//! plan so far (a status, not an error), the listener hears every stage, and `pushpack plan`
+//! stops cleanly on Ctrl+C and writes what it has.
+
+mod common;
+
+use pushpack::control::{Event, Recorder, Stage, Terminator};
+use pushpack::plan::{optimize_with, PlanOptions, Sequencer};
+use pushpack::status::{Limit, Status};
+use pushpack::verify::verify;
+use std::cell::Cell;
+
+/// Fires from its `n`-th question on: deterministic, unlike a clock.
+struct FiresAfter {
+    asked: Cell<u64>,
+    n: u64,
+}
+
+impl Terminator for FiresAfter {
+    fn should_stop(&self) -> bool {
+        self.asked.set(self.asked.get() + 1);
+        self.asked.get() >= self.n
+    }
+}
+
+/// A 16-object instance whose A* search runs long enough to be interrupted with a plan in hand.
+const LONG: &str = "random/n16/n16_k4_s0001.toml";
+
+#[test]
+fn a_terminator_that_fires_mid_search_returns_the_best_plan_so_far_marked_cancelled() {
+    let inst = common::load(LONG);
+    let mut o = PlanOptions::from_instance(&inst);
+    o.sequencer = Sequencer::Astar;
+    o.time_limit = 600.0;
+    let stop = FiresAfter {
+        asked: Cell::new(0),
+        n: 300,
+    };
+    let mut events = Recorder::default();
+    let out = optimize_with(&inst, &o, &stop, &mut events).expect("the search has an incumbent when it is stopped");
+    let seq = &out.plan.solver.sequence;
+    assert_eq!(seq.stopped_by, Some(Limit::Cancel), "{seq:?}");
+    assert_eq!(seq.status, Status::Feasible, "stopped early: a bound, not a proof");
+    assert!(out.plan.status.has_solution() && out.plan.status != Status::Optimal);
+    let r = verify(&inst, &out.plan);
+    assert!(r.is_valid(), "{r}");
+
+    // Every stage started and finished, in pipeline order.
+    let finished: Vec<Stage> = events
+        .0
+        .iter()
+        .filter_map(|e| match e {
+            Event::StageFinished { stage, .. } => Some(*stage),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(finished, [Stage::Placement, Stage::Sequence, Stage::Motion]);
+}
+
+#[test]
+fn a_terminator_that_fires_at_once_is_a_status_without_a_plan_not_a_crash() {
+    let inst = common::load(LONG);
+    let o = PlanOptions::from_instance(&inst);
+    let stop = FiresAfter {
+        asked: Cell::new(0),
+        n: 1,
+    };
+    match optimize_with(&inst, &o, &stop, &mut Recorder::default()) {
+        Ok(out) => {
+            // Bottom-Left may finish its first order before it asks; then the sequencer stops.
+            assert!(out.plan.solver.sequence.stopped_by.is_some());
+            let r = verify(&inst, &out.plan);
+            assert!(r.is_valid(), "{r}");
+        }
+        Err(e) => assert!(e.status().is_some(), "a stop is a status, got the error {e}"),
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_pushpack_plan_cleanly_and_writes_the_best_plan_so_far() {
+    use std::process::{Command, Stdio};
+    let out = tempfile::tempdir().unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_pushpack"))
+        .args(["plan", &common::bundled(LONG), "--time-limit", "600", "--out"])
+        .arg(out.path())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Long enough for the placement stage and the first incumbent of the sequence search.
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let pid = child.id().to_string();
+    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    let result = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    let plan = out.path().join("plan.json");
+    if plan.exists() {
+        let p = pushpack::plan::Plan::load(&plan).unwrap();
+        assert_eq!(p.solver.sequence.stopped_by, Some(Limit::Cancel), "{stdout}\n{stderr}");
+        let inst = common::load(LONG);
+        let r = verify(&inst, &p);
+        assert!(r.is_valid(), "{r}");
+        assert!(stdout.contains("stopped by the cancel limit"), "{stdout}");
+    } else {
+        // Stopped before any plan: the placement is written and the status said.
+        assert!(out.path().join("placement.json").exists(), "{stdout}\n{stderr}");
+        assert!(stderr.contains("status"), "{stderr}");
+    }
+    assert!(stderr.contains("stopping"), "the user is told what happens: {stderr}");
+}
