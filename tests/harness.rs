@@ -241,6 +241,11 @@ fn bad_input_exits_2_naming_the_flag() {
             "--jobs",
         ),
         (
+            // More runs than cores would shrink every time limit silently.
+            vec!["bench", "instances/paper", "--planners", "bl+paper", "--jobs", "100000"],
+            "--jobs",
+        ),
+        (
             vec![
                 "bench",
                 "instances/paper",
@@ -331,4 +336,32 @@ fn a_node_limit_stop_is_recorded_as_node_limit_not_timeout() {
     .unwrap();
     let (rows, _) = read_jsonl(&old).unwrap();
     assert_eq!(rows[0].status, RunStatus::NodeLimit);
+}
+
+/// A mixed run of a heuristic and the exact pipeline on the same instances: only the pipeline
+/// whose every stage proves its result may call a row optimal; the rows keep the placement
+/// even when a later stage has nothing, and say which machine and how many jobs ran them.
+#[test]
+fn no_heuristic_row_is_reported_optimal() {
+    use pushpack::bench::run::run_in_process;
+    use pushpack::bench::spec::PlannerSpec;
+    for rel in ["paper/exp1_4objects.toml", "paper/exp2_8objects.toml"] {
+        let path = format!("{}/instances/{rel}", env!("CARGO_MANIFEST_DIR"));
+        let inst = pushpack::instance::Instance::load(&path).unwrap();
+        for planner in ["bl+paper", "milp+paper", "bl+astar", "milp+astar"] {
+            let spec = PlannerSpec::parse(planner, "planner").unwrap();
+            let r = run_in_process(&path, &inst, &spec, 60.0);
+            assert!(r.solved(), "{rel} {planner}: {r:?}");
+            let heuristic = planner.contains("paper") || planner.starts_with("bl");
+            if heuristic {
+                assert_eq!(r.status, RunStatus::Heuristic, "{rel} {planner}");
+                assert!(!r.proven());
+            } else {
+                assert_eq!(r.status, RunStatus::Optimal, "{rel} {planner}");
+                assert!(r.proven());
+            }
+            assert!(r.robot_time_s.is_some_and(|t| t > 0.0), "{rel} {planner}");
+            assert!(r.cpu_model.is_some() || !cfg!(target_os = "linux"));
+        }
+    }
 }

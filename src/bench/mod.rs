@@ -203,13 +203,14 @@ pub fn results_stem(shard: Option<Shard>) -> String {
 
 /// Run one job in a child process `exe bench-run`, killing it past `hard_limit` seconds.
 /// Every outcome, including a crash or a kill, becomes a row.
-pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_limit: f64) -> ResultRow {
+pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_limit: f64, jobs: usize) -> ResultRow {
     let start = Instant::now();
     let mut row = run::base_row(&job.path, inst, &job.spec, time_limit);
     let finish = |mut row: ResultRow, status: RunStatus, msg: String| {
         row.status = status;
         row.error = Some(msg);
         row.wall_time_s = start.elapsed().as_secs_f64();
+        row.jobs = Some(jobs);
         row
     };
     let child = Command::new(exe)
@@ -267,6 +268,7 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
     {
         Some(Ok(r)) if status.success() => {
             row = r;
+            row.jobs = Some(jobs);
             row.wall_time_s = start.elapsed().as_secs_f64();
             row
         }
@@ -284,6 +286,15 @@ pub fn run_child(exe: &Path, job: &Job, inst: &Instance, time_limit: f64, hard_l
 
 /// Run a batch: every pending job of this shard, `cfg.jobs` at a time, appending rows as they end.
 pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
+    // More concurrent runs than cores would make every time limit mean less, silently.
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if cfg.jobs == 0 || cfg.jobs > cores {
+        return Err(Error::input(
+            "<command line>",
+            "--jobs",
+            format!("must be between 1 and the machine's {cores} cores, got {}", cfg.jobs),
+        ));
+    }
     let files = expand_instances(&cfg.instances)?;
     // Load every instance first: a bad file is bad input, reported before hours of computing.
     let mut insts = std::collections::HashMap::new();
@@ -343,7 +354,7 @@ pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
         // an interrupted batch has finished the first sets rather than parts of every set.
         pending.iter().par_bridge().for_each(|job| {
             let inst = &insts[&job.path];
-            let row = run_child(&cfg.exe, job, inst, cfg.time_limit, cfg.hard_limit);
+            let row = run_child(&cfg.exe, job, inst, cfg.time_limit, cfg.hard_limit, cfg.jobs);
             let (nf, nt) = {
                 let mut f = failed.lock().expect("no panics while locked");
                 if row.status.is_failure() {

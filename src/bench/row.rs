@@ -133,7 +133,7 @@ pub struct ResultRow {
     pub planner: String,
     /// Seed given to the planner.
     pub seed: u64,
-    /// Library time limit per stage (s).
+    /// The run's time limit (s): placement, sequence and joint trajectories together.
     pub time_limit_s: f64,
     /// How the run ended.
     pub status: RunStatus,
@@ -201,6 +201,18 @@ pub struct ResultRow {
     pub violations: Option<usize>,
     /// Number of joint-trajectory problems the verifier found (reported apart, docs/robot.md).
     pub robot_issues: Option<usize>,
+    /// Robot execution time of the plan: the end of its last joint trajectory (s).
+    #[serde(default)]
+    pub robot_time_s: Option<f64>,
+    /// Host name of the machine that ran it.
+    #[serde(default)]
+    pub host: Option<String>,
+    /// CPU model of that machine (`/proc/cpuinfo`).
+    #[serde(default)]
+    pub cpu_model: Option<String>,
+    /// Concurrent runs of the batch (`--jobs`): runs share the machine's cores.
+    #[serde(default)]
+    pub jobs: Option<usize>,
     /// pushpack version that ran the plan.
     pub tool_version: String,
     /// Git commit the binary was built from (`unknown` outside a repository).
@@ -250,6 +262,10 @@ pub const COLUMNS: &[&str] = &[
     "verify",
     "violations",
     "robot_issues",
+    "robot_time_s",
+    "host",
+    "cpu_model",
+    "jobs",
     "tool_version",
     "git_commit",
 ];
@@ -262,6 +278,21 @@ pub const TIMING_COLUMNS: &[&str] = &[
     "verify_time_s",
     "wall_time_s",
 ];
+
+/// This machine's host name and CPU model, when the system says (Linux: `/proc`).
+pub fn machine() -> (Option<String>, Option<String>) {
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .map(|h| h.trim().to_string())
+        .filter(|h| !h.is_empty());
+    let cpu = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|c| {
+        c.lines()
+            .find(|l| l.starts_with("model name"))
+            .and_then(|l| l.split_once(':'))
+            .map(|(_, m)| m.trim().to_string())
+    });
+    (host, cpu)
+}
 
 /// Version and commit of this binary.
 pub fn tool_version() -> (String, String) {

@@ -1,10 +1,11 @@
 //! One benchmark run in this process: plan an instance with one planner, verify the plan, and
 //! turn everything into a [`ResultRow`]. Errors and panics become `failed` rows, never aborts.
 
-use super::row::{tool_version, ResultRow, RunStatus};
+use super::row::{machine, tool_version, ResultRow, RunStatus};
 use super::spec::PlannerSpec;
+use crate::control::{Never, Silent};
 use crate::instance::Instance;
-use crate::plan::optimize;
+use crate::plan::optimize_stages;
 use crate::verify::verify;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
@@ -64,6 +65,10 @@ pub fn base_row(path: &str, inst: &Instance, spec: &PlannerSpec, time_limit: f64
         verify: None,
         violations: None,
         robot_issues: None,
+        robot_time_s: None,
+        host: machine().0,
+        cpu_model: machine().1,
+        jobs: None,
         tool_version,
         git_commit,
     }
@@ -80,25 +85,42 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
-/// Plan `inst` with `spec` (the library's per-stage `time_limit`), verify, and fill the row.
+/// Plan `inst` with `spec` (the run's `time_limit`), verify, and fill the row. When a later
+/// stage ends without a plan, the placement's fields are kept.
 pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limit: f64) -> ResultRow {
     let start = Instant::now();
     let mut row = base_row(path, inst, spec, time_limit);
     let opts = spec.options(inst, time_limit);
     let result = catch_unwind(AssertUnwindSafe(|| {
         let t = Instant::now();
-        let out = optimize(inst, &opts)?;
+        let (placed, out) = optimize_stages(inst, &opts, &Never, &mut Silent);
+        let out = out.map_err(|e| (e, placed))?;
         let plan_time = t.elapsed().as_secs_f64();
         let t = Instant::now();
         let report = verify(inst, &out.plan);
-        Ok::<_, crate::error::Error>((out, plan_time, report, t.elapsed().as_secs_f64()))
+        Ok::<_, (crate::error::Error, Option<crate::placement::PlacementResult>)>((
+            out,
+            plan_time,
+            report,
+            t.elapsed().as_secs_f64(),
+        ))
     }));
     match result {
         Err(p) => {
             row.status = RunStatus::Crashed;
             row.error = Some(format!("panic: {}", panic_message(p.as_ref())));
         }
-        Ok(Err(e)) => {
+        Ok(Err((e, placed))) => {
+            if let Some(p) = placed {
+                let status = crate::plan::placement_status(&p);
+                row.placement_status = Some(status.as_str().to_string());
+                row.occupied_area = Some(p.placement.occupied_area());
+                row.placement_bound = Some(p.lower_bound);
+                row.placement_gap = Some(p.gap());
+                row.contact_length = Some(p.placement.contact_length(inst));
+                row.placement_nodes = Some(p.nodes);
+                row.placement_time_s = Some(p.time_s);
+            }
             // A run stopped by a limit, or proven to have no plan, ended with a status; any
             // other error stays an error.
             if let Some(status) = e.status() {
@@ -143,6 +165,7 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
             row.verify = Some(if report.is_valid() { "valid" } else { "invalid" }.into());
             row.violations = Some(report.violations.len());
             row.robot_issues = Some(report.robot_issues.len());
+            row.robot_time_s = plan.trajectories.iter().map(|t| t.t_end).reduce(f64::max);
         }
     }
     row.wall_time_s = start.elapsed().as_secs_f64();
