@@ -94,11 +94,11 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
     let result = catch_unwind(AssertUnwindSafe(|| {
         let t = Instant::now();
         let (placed, out) = optimize_stages(inst, &opts, &Never, &mut Silent);
-        let out = out.map_err(|e| (e, placed))?;
+        let out = out.map_err(|e| (e, placed.map(Box::new)))?;
         let plan_time = t.elapsed().as_secs_f64();
         let t = Instant::now();
         let report = verify(inst, &out.plan);
-        Ok::<_, (crate::error::Error, Option<crate::placement::PlacementResult>)>((
+        Ok::<_, (crate::error::Error, Option<Box<crate::placement::PlacementResult>>)>((
             out,
             plan_time,
             report,
