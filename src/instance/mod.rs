@@ -768,7 +768,11 @@ fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: Stri
             up,
         };
         let size = kinds[kind].size;
-        let candidates: Vec<Orientation> = match o.orientations.as_deref().unwrap_or("any") {
+        // The default follows the gripper: a top-down two-finger pick cannot turn a box over,
+        // so without a regrasp the face it stands on stays down and every plan stays
+        // executable. `any` remains for packing-only studies (docs/formats.md).
+        let default_rule = if robot.regrasp { "any" } else { "upright" };
+        let candidates: Vec<Orientation> = match o.orientations.as_deref().unwrap_or(default_rule) {
             "any" => Orientation::all().to_vec(),
             "upright" => vec![Orientation { up, yaw90: false }, Orientation { up, yaw90: true }],
             other => {
