@@ -197,11 +197,20 @@ fn upright_only_keeps_the_table_up_axis() {
     let text = std::fs::read_to_string(root().join("instances/examples/two_boxes.toml")).unwrap();
     let default = Instance::parse(&text, false, "two_boxes.toml", None).unwrap();
     assert_eq!(default.objects[0].orientations.len(), 2);
-    let any = Instance::parse(&text.replace("y = 0.28\n", "y = 0.28\norientations = \"any\"\n"), false, "t", None).unwrap();
+    let any = Instance::parse(
+        &text.replace("y = 0.28\n", "y = 0.28\norientations = \"any\"\n"),
+        false,
+        "t",
+        None,
+    )
+    .unwrap();
     assert!(any.objects[0].orientations.len() > 2);
     let regrasp = text.replace("[[kinds]]", "[robot]\nregrasp = true\n\n[[kinds]]");
     let regrasp = Instance::parse(&regrasp, false, "t", None).unwrap();
-    assert!(regrasp.objects[0].orientations.len() > 2, "with a regrasp the default is any");
+    assert!(
+        regrasp.objects[0].orientations.len() > 2,
+        "with a regrasp the default is any"
+    );
 }
 
 #[test]

@@ -1,0 +1,249 @@
+//! Paths of one arm: straight Cartesian lines, joint-space moves and their collision samples.
+
+use super::*;
+
+/// The motion of one action variant.
+#[derive(Debug, Clone)]
+pub(super) struct Motion {
+    /// Legs (each from rest to rest) per segment; segment k ends at key pose k.
+    pub(super) segments: Vec<Legs>,
+    pub(super) key_q: Vec<[f64; 6]>,
+    pub(super) specs: Vec<Spec>,
+    pub(super) cost: f64,
+    pub(super) clearance: f64,
+}
+
+pub(super) fn lerp(a: &[f64; 6], b: &[f64; 6], u: f64) -> [f64; 6] {
+    std::array::from_fn(|k| a[k] + u * (b[k] - a[k]))
+}
+
+pub(super) fn interp_pose(a: &Isometry3<f64>, b: &Isometry3<f64>, s: f64) -> Isometry3<f64> {
+    a.lerp_slerp(b, s)
+}
+
+/// Distance from `p` to the segment a–b.
+pub fn line_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    let ab = b - a;
+    let l2 = ab.norm_squared();
+    let u = if l2 > 0.0 {
+        ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + ab * u)).norm()
+}
+
+/// Follow the straight line a → b from configuration `q0` (at a).
+pub(super) fn follow_line(
+    solver: &IkSolver,
+    q0: &[f64; 6],
+    a: &Isometry3<f64>,
+    b: &Isometry3<f64>,
+    what: &str,
+) -> Result<Vec<[f64; 6]>, RobotError> {
+    follow_line_tol(solver, q0, a, b, what, LINE_TOLERANCE)
+}
+
+/// [`follow_line`] with another position tolerance (the predicate only needs to know that the
+/// line can be followed, not the fine waypoints the joint plan emits).
+pub(super) fn follow_line_tol(
+    solver: &IkSolver,
+    q0: &[f64; 6],
+    a: &Isometry3<f64>,
+    b: &Isometry3<f64>,
+    what: &str,
+    tol: f64,
+) -> Result<Vec<[f64; 6]>, RobotError> {
+    let len = (b.translation.vector - a.translation.vector).norm();
+    let ang = a.rotation.angle_to(&b.rotation);
+    let n = (len / 0.01).max(ang / 0.05).ceil().max(1.0) as usize;
+    let mut out = vec![*q0];
+    let mut worst = (0.0f64, 0.0f64);
+    for i in 1..=n {
+        let s0 = (i - 1) as f64 / n as f64;
+        let s1 = i as f64 / n as f64;
+        refine(solver, a, b, s0, s1, &mut out, 0, what, &mut worst, tol)?;
+    }
+    Ok(out)
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(super) fn refine(
+    solver: &IkSolver,
+    a: &Isometry3<f64>,
+    b: &Isometry3<f64>,
+    s0: f64,
+    s1: f64,
+    out: &mut Vec<[f64; 6]>,
+    depth: usize,
+    what: &str,
+    worst: &mut (f64, f64),
+    tol: f64,
+) -> Result<(), RobotError> {
+    let q0 = *out.last().expect("starts with q0");
+    let target = interp_pose(a, b, s1);
+    let q1 = solver
+        .track(&target, &q0)
+        .or_else(|_| solver.solve_near(&target, &q0))?;
+    let jump = max_abs_diff(&q0, &q1);
+    let (pa, pb) = (a.translation.vector, b.translation.vector);
+    // Position off the line, and orientation off the interpolated one: a held box reaches
+    // ~0.05 m from the TCP, so a turn of ROT_TOLERANCE moves its corners by < 0.03 mm.
+    let (mut dev, mut rot) = (0.0f64, 0.0f64);
+    for u in [0.25, 0.5, 0.75] {
+        let f = solver.fk(&lerp(&q0, &q1, u));
+        dev = dev.max(line_distance(&f.translation.vector, &pa, &pb));
+        let want = interp_pose(a, b, s0 + u * (s1 - s0));
+        rot = rot.max(f.rotation.angle_to(&want.rotation));
+    }
+    if jump > MAX_LINE_STEP || dev > tol || rot > ROT_TOLERANCE * tol / LINE_TOLERANCE {
+        worst.0 = worst.0.max(dev);
+        worst.1 = worst.1.max(jump);
+        if depth >= 14 {
+            return Err(RobotError::Path {
+                what: what.to_string(),
+                deviation: worst.0,
+                limit: tol,
+                jump: worst.1,
+            });
+        }
+        let sm = 0.5 * (s0 + s1);
+        refine(solver, a, b, s0, sm, out, depth + 1, what, worst, tol)?;
+        refine(solver, a, b, sm, s1, out, depth + 1, what, worst, tol)?;
+    } else {
+        out.push(q1);
+    }
+    Ok(())
+}
+
+/// Collision check of configurations `qs` of `arm` with hand `hand` during segment `seg`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn check_samples(
+    ctx: &Ctx,
+    solver: &IkSolver,
+    action: &Action,
+    seg: usize,
+    hand: &Hand,
+    qs: &[[f64; 6]],
+    what: &str,
+    min_clear: &mut f64,
+) -> Result<(), RobotError> {
+    if ctx.scope == Scope::Kinematic {
+        return Ok(());
+    }
+    let model = &ctx.inst.robot.model;
+    let arm = solver.arm();
+    let moving = matches!(action, Action::Push { .. }) && seg == 2;
+    let fixed_obs = if moving {
+        Vec::new()
+    } else {
+        ctx.obstacles(action, seg, None)
+    };
+    // The predicate discards the clearance (its answer is yes/no and the joint cost), and the
+    // distance queries cost more than the boolean test they would follow.
+    let report_clearance = ctx.scope == Scope::Full;
+    for (k, q) in qs.iter().enumerate() {
+        let parts = robot_parts(model, ctx.inst, arm, q, hand);
+        let tcp = solver.fk(q).translation.vector;
+        let moved_obs;
+        let obs = if moving {
+            moved_obs = ctx.obstacles(action, seg, Some(&tcp));
+            &moved_obs
+        } else {
+            &fixed_obs
+        };
+        let skip = Ctx::skip(action, seg);
+        if let Some((p, o)) = first_collision(&parts, obs, &skip) {
+            return Err(RobotError::Collision {
+                what: what.to_string(),
+                part: p.name.clone(),
+                obstacle: o.name.clone(),
+                tcp: [tcp.x, tcp.y, tcp.z],
+            });
+        }
+        // Clearance report on a subset of samples (it is slower than the boolean test).
+        if report_clearance && (k % 8 == 0 || k + 1 == qs.len()) {
+            *min_clear = min_clear.min(clearance(&parts, obs, &skip));
+        }
+    }
+    Ok(())
+}
+
+/// Dense samples of a waypoint path for collision checks: every waypoint and intermediate
+/// configurations no more than [`COLLISION_STEP`] apart.
+pub(super) fn densify(path: &[[f64; 6]]) -> Vec<[f64; 6]> {
+    let mut out = vec![path[0]];
+    for w in path.windows(2) {
+        let n = (max_abs_diff(&w[0], &w[1]) / COLLISION_STEP).ceil().max(1.0) as usize;
+        for i in 1..=n {
+            out.push(lerp(&w[0], &w[1], i as f64 / n as f64));
+        }
+    }
+    out
+}
+
+/// A move to `target` in joint space; where that collides, a straight line; where that collides
+/// too and the start is below transfer height, straight up to transfer height first and then a
+/// joint move (or a line). Returns the legs.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn joint_move(
+    ctx: &Ctx,
+    solver: &IkSolver,
+    action: &Action,
+    seg: usize,
+    hand: &Hand,
+    q: &[f64; 6],
+    target: &Isometry3<f64>,
+    what: &str,
+    min_clear: &mut f64,
+) -> Result<Legs, RobotError> {
+    let check = |p: &[[f64; 6]], mc: &mut f64| check_samples(ctx, solver, action, seg, hand, &densify(p), what, mc);
+    let from = solver.fk(q);
+    // The predicate only needs some branch at the target (the joint move is not checked); the
+    // nearest one costs a search over every IK seed when the move is long.
+    let qt = if ctx.fast_ik {
+        IkMemo::get(
+            ctx.memo,
+            || key_bits(1, solver.arm(), &[target], None, &[]),
+            || solver.solve_any(target).map(|q| vec![q]),
+        )?[0]
+    } else {
+        solver.solve_near(target, q)?
+    };
+    let joint = vec![*q, qt];
+    if ctx.scope != Scope::Full {
+        return Ok(vec![joint]);
+    }
+    let joint_err = match check(&joint, min_clear) {
+        Ok(()) => return Ok(vec![joint]),
+        Err(e) => e,
+    };
+    if let Ok(line) = follow_line(solver, q, &from, target, what) {
+        if check(&line, min_clear).is_ok() {
+            return Ok(vec![line]);
+        }
+    }
+    let zt = crate::motion::keypoints::transfer_z(ctx.inst);
+    if from.translation.vector.z < zt - 1e-6 {
+        let mut up = from;
+        up.translation.vector.z = zt;
+        let Ok(rise) = follow_line(solver, q, &from, &up, what) else {
+            return Err(joint_err);
+        };
+        if check(&rise, min_clear).is_err() {
+            return Err(joint_err);
+        }
+        let q1 = *rise.last().expect("non-empty");
+        let qt = solver.solve_near(target, &q1)?;
+        let joint = vec![q1, qt];
+        if check(&joint, min_clear).is_ok() {
+            return Ok(vec![rise, joint]);
+        }
+        if let Ok(line) = follow_line(solver, &q1, &up, target, what) {
+            if check(&line, min_clear).is_ok() {
+                return Ok(vec![rise, line]);
+            }
+        }
+    }
+    Err(joint_err)
+}
