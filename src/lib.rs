@@ -19,7 +19,7 @@
 //! The folder listing is the pipeline, bottom to top (each imports only modules below it):
 //! [`geometry`], [`error`], [`status`] → [`control`] → [`robot`] (URDF model, FK, IK) →
 //! [`instance`] → [`placement`] → [`actions`] → [`motion`] → [`sequence`] → [`plan`] (the
-//! composer and `plan.json`) → [`verify`], [`render`] → `bench` → `report` (the last two, and
+//! composer and `plan.json`) → [`verify`](mod@verify), [`render`] → `bench` → `report` (the last two, and
 //! the `pushpack` command, only with the default `cli` feature).
 //!
 //! ```no_run

@@ -1,0 +1,162 @@
+//! Assembling the plan file from the stages' results: targets, action entries with their key
+//! points and costs, statistics, and the joint trajectories.
+
+use super::file::*;
+use super::{placement_status, sequence_status, PlanOptions};
+use crate::actions::{Action, PlaceMode};
+use crate::geometry::Arm;
+use crate::instance::Instance;
+use crate::motion::keypoints::{action_keypoints, path_length};
+use crate::placement::PlacementResult;
+use crate::sequence::SequenceResult;
+use crate::status::Status;
+
+/// Assemble the plan file from stage results.
+pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr: &SequenceResult) -> Plan {
+    let p = &pr.placement;
+    let placements = p
+        .targets
+        .iter()
+        .enumerate()
+        .map(|(i, t)| PlacementEntry {
+            object: inst.objects[i].id.clone(),
+            kind: inst.kinds[inst.objects[i].kind].name.clone(),
+            orientation: t.orientation,
+            x: t.rect.x0,
+            y: t.rect.y0,
+            size_x: t.rect.width(),
+            size_y: t.rect.depth(),
+            height: t.height,
+        })
+        .collect();
+    let mut pos = [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)];
+    let layout = crate::actions::Layout::new(inst, p);
+    let actions = sr
+        .actions
+        .iter()
+        .zip(&sr.margins)
+        .enumerate()
+        .map(|(k, (a, m))| {
+            let kps = action_keypoints(inst, p, a);
+            let (cost, end) = path_length(&pos[a.arm().index()], &kps);
+            pos[a.arm().index()] = end;
+            let ids = a.objects().iter().map(|&i| inst.objects[i].id.clone()).collect();
+            match a {
+                Action::Place {
+                    object,
+                    mode,
+                    grasp_axis,
+                    arm,
+                } => {
+                    let (mode_s, dir, off) = match mode {
+                        PlaceMode::Direct => ("direct", None, None),
+                        PlaceMode::Indirect { push_dir, offset } => ("indirect", Some(*push_dir), Some(*offset)),
+                    };
+                    ActionEntry {
+                        step: k + 1,
+                        kind: "place".into(),
+                        objects: ids,
+                        mode: Some(mode_s.into()),
+                        push_dir: dir,
+                        offset: off,
+                        distance: None,
+                        grasp_axis: Some(*grasp_axis),
+                        pusher_at: None,
+                        release: Some(layout.release_rect(*object, mode)),
+                        margin: None,
+                        push_model: None,
+                        arm: *arm,
+                        cost,
+                        key_poses: kps,
+                    }
+                }
+                Action::Push {
+                    push_dir,
+                    distance,
+                    pusher_at,
+                    arm,
+                    ..
+                } => ActionEntry {
+                    step: k + 1,
+                    kind: "push".into(),
+                    objects: ids,
+                    mode: None,
+                    push_dir: Some(*push_dir),
+                    offset: None,
+                    distance: Some(*distance),
+                    grasp_axis: None,
+                    pusher_at: Some(*pusher_at),
+                    release: None,
+                    margin: *m,
+                    push_model: Some("2d".into()),
+                    arm: *arm,
+                    cost,
+                    key_poses: kps,
+                },
+            }
+        })
+        .collect();
+    let (robot, trajectories) =
+        crate::motion::plan_trajectories(inst, p, &sr.actions, &crate::motion::TrajectoryOptions::default());
+    let placement_status = placement_status(pr);
+    let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
+    Plan {
+        format_version: FORMAT_VERSION,
+        tool: ToolInfo {
+            name: "pushpack".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+        },
+        instance: InstanceRef {
+            name: inst.name.clone(),
+            source: inst.source.clone(),
+            digest: inst.digest.clone(),
+        },
+        status: Status::combine(&[placement_status, sequence_status]),
+        options: opts.clone(),
+        placement: PlacementSummary {
+            status: placement_status,
+            occupied_area: p.occupied_area(),
+            lower_bound: pr.lower_bound,
+            gap: pr.gap(),
+            contact_length: p.contact_length(inst),
+            solver: pr.solver.clone(),
+            alternative: 0,
+        },
+        placements,
+        actions,
+        metrics: sr.metrics,
+        solver: SolverStats {
+            placement: StageStats {
+                status: placement_status,
+                stopped_by: None,
+                time_s: pr.time_s,
+                nodes: pr.nodes,
+                bound: Some(pr.lower_bound),
+                gap: Some(pr.gap()),
+                assignments: None,
+                cost_bound: None,
+            },
+            sequence: StageStats {
+                status: sequence_status,
+                stopped_by: sequence_stop,
+                time_s: sr.time_s,
+                nodes: sr.nodes,
+                bound: sr.bound.map(|b| b.travel),
+                gap: sr.bound.map(|b| {
+                    if b.len == sr.metrics.seq_len
+                        && (b.area - sr.metrics.swept_area).abs() <= 1e-12
+                        && sr.metrics.travel > 0.0
+                    {
+                        ((sr.metrics.travel - b.travel) / sr.metrics.travel).max(0.0)
+                    } else {
+                        1.0
+                    }
+                }),
+                assignments: Some(sr.assignments),
+                cost_bound: sr.bound,
+            },
+        },
+        robot: Some(robot),
+        trajectories,
+    }
+}
