@@ -5,7 +5,7 @@ pub mod plots;
 
 use crate::bench::row::{read_jsonl, result_files, ResultRow, RunStatus};
 use crate::error::{Error, Result};
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -88,11 +88,24 @@ pub struct GroupStats {
     pub timeout: usize,
     /// Runs recorded as `node_limit`.
     pub node_limit: usize,
-    /// Median wall time of solved runs (s).
+    /// Runs proven to have no plan (answers, not failures).
+    pub infeasible: usize,
+    /// Instances of the group that every compared planner solved: the figures below are
+    /// over these only, so that planners are compared on the same instances.
+    pub common: usize,
+    /// Median wall time (s).
     pub median_time: Option<f64>,
-    /// Largest wall time of solved runs (s).
+    /// Largest wall time (s).
     pub max_time: Option<f64>,
-    /// Mean placement gap of solved runs.
+    /// Median placement stage time (s).
+    pub median_placement_s: Option<f64>,
+    /// Median sequence stage time (s).
+    pub median_sequence_s: Option<f64>,
+    /// Median joint-trajectory time: the run's plan time less its two search stages (s).
+    pub median_motion_s: Option<f64>,
+    /// Median verifier time (s).
+    pub median_verify_s: Option<f64>,
+    /// Mean placement gap.
     pub mean_gap: Option<f64>,
     /// Mean occupied area relative to the best solved planner on the same instance.
     pub area_vs_best: Option<f64>,
@@ -100,14 +113,35 @@ pub struct GroupStats {
     pub len_vs_best: Option<f64>,
 }
 
-/// Statistics of `rows` against the per-instance `best`.
-pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>) -> GroupStats {
+/// The instances that every planner of `planners` solved (a verified plan).
+pub fn commonly_solved(rows: &[ResultRow], planners: &[String]) -> HashSet<String> {
+    let mut by_instance: HashMap<&str, HashSet<&str>> = HashMap::new();
+    for r in rows.iter().filter(|r| r.solved()) {
+        by_instance.entry(&r.instance).or_default().insert(&r.planner);
+    }
+    by_instance
+        .into_iter()
+        .filter(|(_, ps)| planners.iter().all(|p| ps.contains(p.as_str())))
+        .map(|(i, _)| i.to_string())
+        .collect()
+}
+
+/// Statistics of `rows` against the per-instance `best`. Counts are over every row; times,
+/// gaps and ratios over the rows of `common` instances only ([`commonly_solved`]).
+pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>, common: &HashSet<String>) -> GroupStats {
     let solved: Vec<&&ResultRow> = rows.iter().filter(|r| r.solved()).collect();
-    let times: Vec<f64> = solved.iter().map(|r| r.wall_time_s).collect();
-    let gaps: Vec<f64> = solved.iter().filter_map(|r| r.placement_gap).collect();
+    let compared: Vec<&&ResultRow> = solved
+        .iter()
+        .copied()
+        .filter(|r| common.contains(&r.instance))
+        .collect();
+    let times: Vec<f64> = compared.iter().map(|r| r.wall_time_s).collect();
+    let gaps: Vec<f64> = compared.iter().filter_map(|r| r.placement_gap).collect();
+    let stage =
+        |f: &dyn Fn(&ResultRow) -> Option<f64>| median(&compared.iter().filter_map(|r| f(r)).collect::<Vec<_>>());
     let mut area_r = Vec::new();
     let mut len_r = Vec::new();
-    for r in &solved {
+    for r in &compared {
         if let (Some(&(ba, bl)), Some(a), Some(l)) = (best.get(&r.instance), r.occupied_area, r.seq_len) {
             area_r.push(a / ba);
             len_r.push(l as f64 / bl);
@@ -123,7 +157,15 @@ pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>) -> G
             .filter(|r| matches!(r.status, RunStatus::TimeLimit | RunStatus::Killed))
             .count(),
         node_limit: rows.iter().filter(|r| r.status == RunStatus::NodeLimit).count(),
+        infeasible: rows.iter().filter(|r| r.status == RunStatus::Infeasible).count(),
+        common: compared.len(),
         median_time: median(&times),
+        median_placement_s: stage(&|r| r.placement_time_s),
+        median_sequence_s: stage(&|r| r.sequence_time_s),
+        median_motion_s: stage(&|r| {
+            Some(r.plan_time_s? - r.placement_time_s.unwrap_or(0.0) - r.sequence_time_s.unwrap_or(0.0))
+        }),
+        median_verify_s: stage(&|r| r.verify_time_s),
         max_time: times.iter().copied().reduce(f64::max),
         mean_gap: mean(&gaps),
         area_vs_best: mean(&area_r),
@@ -143,20 +185,30 @@ fn pct(n: usize, d: usize) -> String {
     }
 }
 
-const TABLE_HEAD: &str = "| runs | solved | proven optimal | failed | timeout | node limit | median time (s) | max time (s) | mean placement gap | area / best | actions / best |\n";
-const TABLE_RULE: &str = "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+const TABLE_HEAD: &str = "| runs | solved | proven optimal | infeasible | failed | time limit | node limit | compared | median time (s) | max time (s) | placement / sequence / motion / verify (s) | mean placement gap | area / best | actions / best |\n";
+const TABLE_RULE: &str = "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 fn stats_cells(s: &GroupStats) -> String {
     format!(
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
         s.runs,
         pct(s.solved, s.runs),
         pct(s.proven, s.runs),
+        s.infeasible,
         s.failed,
         s.timeout,
         s.node_limit,
+        s.common,
         opt(s.median_time, |t| format!("{t:.2}")),
         opt(s.max_time, |t| format!("{t:.2}")),
+        [
+            s.median_placement_s,
+            s.median_sequence_s,
+            s.median_motion_s,
+            s.median_verify_s
+        ]
+        .map(|v| opt(v, |t| format!("{t:.2}")))
+        .join(" / "),
         opt(s.mean_gap, |g| format!("{:.1} %", 100.0 * g)),
         opt(s.area_vs_best, |x| format!("{x:.3}")),
         opt(s.len_vs_best, |x| format!("{x:.3}")),
@@ -215,7 +267,7 @@ pub fn summary_markdown(m: &Merged) -> String {
     let limits: BTreeSet<String> = rows.iter().map(|r| format!("{} s", r.time_limit_s)).collect();
     let _ = writeln!(
         s,
-        "{} rows from {} file(s), {} duplicate row(s) dropped; pushpack {}; time limit per stage {}.\n",
+        "{} rows from {} file(s), {} duplicate row(s) dropped; pushpack {}; time limit per run {}.\n",
         rows.len(),
         m.files.len(),
         m.duplicates,
@@ -224,12 +276,16 @@ pub fn summary_markdown(m: &Merged) -> String {
     );
     let _ = writeln!(
         s,
-        "*solved*: a plan the verifier accepts; *proven optimal*: placement `optimal` and an A* sequence search \
-`complete` (the paper's sequencer is a heuristic: never proven); times are wall-clock seconds of solved runs (one process per run, robot trajectories and \
-verification included); *area / best* and *actions / best*: mean ratio to the best solved planner on \
-the same instance, over the instances this planner solved.\n"
+        "*solved*: a plan the verifier accepts; *proven optimal*: the run's status is `optimal` (placement \
+proven, and A* proved the sequence for it; Bottom-Left and the paper's sequencer are heuristics, never proven); \
+*infeasible*: proven to have no plan (an answer, not a failure); *compared*: solved runs on the instances \
+that **every** planner of the table solved — times, gaps and ratios are over these only, so planners are \
+compared on the same instances; times are wall-clock seconds (one process per run), split into the \
+placement and sequence stages, the joint trajectories (motion) and the verifier; *area / best* and \
+*actions / best*: mean ratio to the best solved planner on the same instance.\n"
     );
     let names = planners(rows);
+    let common = commonly_solved(rows, &names);
     let _ = writeln!(s, "## All sets\n");
     s += "| planner ";
     s += TABLE_HEAD;
@@ -237,7 +293,7 @@ the same instance, over the instances this planner solved.\n"
     s += TABLE_RULE;
     for p in &names {
         let g: Vec<&ResultRow> = rows.iter().filter(|r| &r.planner == p).collect();
-        let _ = writeln!(s, "| {p} {}", stats_cells(&group_stats(&g, &best)));
+        let _ = writeln!(s, "| {p} {}", stats_cells(&group_stats(&g, &best, &common)));
     }
     let _ = writeln!(s, "\n## Per set\n");
     s += "| set | objects | planner ";
@@ -250,7 +306,11 @@ the same instance, over the instances this planner solved.\n"
         for p in &names {
             let g: Vec<&ResultRow> = rows.iter().filter(|r| r.set == set && &r.planner == p).collect();
             if !g.is_empty() {
-                let _ = writeln!(s, "| {set} | {objs} | {p} {}", stats_cells(&group_stats(&g, &best)));
+                let _ = writeln!(
+                    s,
+                    "| {set} | {objs} | {p} {}",
+                    stats_cells(&group_stats(&g, &best, &common))
+                );
             }
         }
     }
@@ -400,8 +460,16 @@ mod tests {
         let m = ablation_means(&rows, &groups[0].1);
         assert_eq!(m, vec![("s".to_string(), 1, vec![Some(4.0), Some(6.0)])]);
         let refs: Vec<&ResultRow> = rows.iter().filter(|r| r.planner == "bl+paper+no-direct").collect();
-        let g = group_stats(&refs, &best_per_instance(&rows));
-        assert_eq!((g.runs, g.solved, g.failed), (2, 1, 1));
+        let names = planners(&rows);
+        let common = commonly_solved(&rows, &names);
+        assert_eq!(common, HashSet::from(["s/a".to_string()]));
+        let g = group_stats(&refs, &best_per_instance(&rows), &common);
+        assert_eq!((g.runs, g.solved, g.failed, g.common), (2, 1, 1, 1));
         assert_eq!(g.len_vs_best, Some(1.5));
+        // bl+paper solved b too, but b is not common: its 8 actions stay out of the ratio.
+        let refs: Vec<&ResultRow> = rows.iter().filter(|r| r.planner == "bl+paper").collect();
+        let g = group_stats(&refs, &best_per_instance(&rows), &common);
+        assert_eq!((g.solved, g.common), (2, 1));
+        assert_eq!(g.len_vs_best, Some(1.0));
     }
 }
