@@ -43,6 +43,7 @@ fn main() {
                 time_limit: limit,
                 contact_stage: true,
                 seed,
+                ..Default::default()
             };
             let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(limit)).expect("MILP runs");
             let t = start.elapsed().as_secs_f64();

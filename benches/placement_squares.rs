@@ -78,6 +78,7 @@ fn run(inst: &Instance, limit: f64) -> (PlacementResult, milp::MilpReport) {
         time_limit: limit,
         contact_stage: true,
         seed: 1,
+        ..Default::default()
     };
     milp::solve_report(inst, &none, &s, &TimeLimit::new(limit)).expect("squares always fit the loose container")
 }

@@ -32,6 +32,7 @@ fn stages(c: &mut Criterion) {
                     time_limit: 60.0,
                     contact_stage: true,
                     seed: 0,
+                    ..Default::default()
                 };
                 milp::solve(black_box(&inst), &warm, &s, &TimeLimit::new(60.0)).expect("MILP")
             })

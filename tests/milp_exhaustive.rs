@@ -142,6 +142,7 @@ fn bl_and_milp(inst: &Instance, seed: u64) -> (PlacementResult, PlacementResult)
         time_limit: 60.0,
         contact_stage: true,
         seed,
+        ..Default::default()
     };
     let r = milp::solve(inst, &blr, &settings, &TimeLimit::new(60.0)).unwrap();
     (blr, r)
@@ -209,6 +210,7 @@ fn stopped_milp_reports_feasible_with_a_valid_bound() {
         time_limit: 0.05,
         contact_stage: true,
         seed: 0,
+        ..Default::default()
     };
     let r = milp::solve(&inst, &blr, &settings, &TimeLimit::new(0.05)).unwrap();
     let area = r.placement.occupied_area();

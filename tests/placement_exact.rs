@@ -16,6 +16,7 @@ fn settings() -> milp::MilpSettings {
         time_limit: 120.0,
         contact_stage: true,
         seed: 1,
+        ..Default::default()
     }
 }
 

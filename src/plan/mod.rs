@@ -73,6 +73,7 @@ pub fn solve_placement_with(
                 time_limit: (time_limit - clock.elapsed()).max(0.0),
                 contact_stage: true,
                 seed,
+                ..Default::default()
             };
             // Bottom-Left finding nothing proves nothing: the exact search starts without it.
             let warm = bl.unwrap_or_else(|_| PlacementResult::empty("bl", clock.elapsed()));

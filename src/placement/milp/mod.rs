@@ -1,0 +1,128 @@
+//! Exact placement: the area stage by enclosing boxes in area order, each decided by an exact
+//! packing search ([`super::area`], [`super::opp`]); the contact stage by enumerating the
+//! packings of each optimal box, with the HiGHS grid MILP below for what that leaves open
+//! (docs/algorithms.md). The per-width depth MILPs described next were the area stage before
+//! issue 21; the models remain for the contact stage.
+//!
+//! The occupied area `W·D` is bilinear, so it is minimised exactly by enumeration of the
+//! occupied width. Every placement can be compacted (slid down and left) into a BL-stable one
+//! without growing its extents, and in a BL-stable placement every right edge is a sum of
+//! footprint widths along a chain from the left wall. So the optimal occupied width `W*` is a
+//! subset sum of footprint x-extents (one orientation per object). For each candidate width
+//! `W` a MILP minimises the depth `D(W)` with every footprint inside `[0, W] × [0, D]`; the
+//! optimum area is `min_W W·D(W)`. `D(W)` is itself a subset sum of y-extents, so every depth
+//! bound is rounded up to those sums. Each candidate carries a proven bound `D_lower(W)`
+//! (area, largest depth, stacked wide objects; spread to narrower widths because `D` does not
+//! grow with `W`, and to transposed widths when placements transpose). Candidates are visited
+//! by increasing `W·D_lower(W)`, each visit with the cut `D ≤` one step above that bound and a
+//! time cap; a capped candidate keeps its dual bound and is revisited later with a larger cap.
+//! The reported `lower_bound` is the least `W·D_lower(W)` over the candidates not solved, and
+//! `optimal` is reported only when it meets the area (docs/algorithms.md).
+//!
+//! A second, lexicographic MILP maximises the contact length among placements inside the
+//! optimal extents, with BL-stability as constraints, warm-started with the compacted
+//! area-optimal placement.
+//!
+//! Model (per pair `i < j`): four binaries `left, right, below, above` with sum ≥ 1 and
+//! big-M rows with `M = W` (x) or `M = container depth` (y), the tightest constants the box
+//! allows; pairs too wide to sit side by side inside `W` get no left/right binaries. Orientation
+//! binaries choose among the distinct footprints of each object. Identical objects (same size
+//! and allowed footprints) are ordered by `x` (symmetry breaking; valid because any placement can
+//! be relabelled so).
+
+use super::area::{self, subset_sums, BoundPoint};
+use super::{is_bl_stable, Placement, PlacementResult, PlacementStatus, Target};
+use crate::control::Terminator;
+use crate::error::{Error, Result};
+use crate::geometry::{Axis2, Orientation, Rect, EPS};
+use crate::instance::Instance;
+use good_lp::solvers::highs::highs;
+use good_lp::{variable, Constraint, Expression, ProblemVariables, SolverModel, Variable};
+use highs::HighsModelStatus;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Tolerance on areas when collecting the extents tied with the optimum.
+const AREA_TOL: f64 = 1e-9;
+
+/// MILP settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MilpSettings {
+    /// Wall-clock limit for the whole placement (s).
+    pub time_limit: f64,
+    /// Run the second stage (maximum contact length with BL-stability constraints).
+    pub contact_stage: bool,
+    /// HiGHS random seed.
+    pub seed: u64,
+    /// Time of the contact stage's enumeration (s); `None` (the default) gives it the area
+    /// stage's time, at least 1 s. Measurements set it to see what more time would prove.
+    pub contact_budget_s: Option<f64>,
+    /// Largest grid model (cover-row non-zeros) built before the contact stage falls back to
+    /// the disjunctive model (default 400,000; how it was chosen: docs/benchmarks/history.md).
+    pub grid_max_nnz: usize,
+}
+
+impl Default for MilpSettings {
+    fn default() -> Self {
+        MilpSettings {
+            time_limit: 60.0,
+            contact_stage: true,
+            seed: 0,
+            contact_budget_s: None,
+            grid_max_nnz: GRID_MAX_NNZ,
+        }
+    }
+}
+
+/// Distinct footprints (x-extent, y-extent) of each object with their orientations.
+fn footprints(inst: &Instance) -> Vec<Vec<([f64; 2], Orientation, f64)>> {
+    inst.objects
+        .iter()
+        .map(|o| {
+            let mut v: Vec<([f64; 2], Orientation, f64)> = Vec::new();
+            for q in &o.orientations {
+                let (fp, h) = q.dims(o.size);
+                if !v
+                    .iter()
+                    .any(|(f, _, _)| (f[0] - fp[0]).abs() <= EPS && (f[1] - fp[1]).abs() <= EPS)
+                {
+                    v.push((fp, *q, h));
+                }
+            }
+            v
+        })
+        .collect()
+}
+
+/// All sums of at most one x-extent per object that fit in `limit`, sorted, deduplicated.
+pub fn candidate_widths(fps: &[Vec<([f64; 2], Orientation, f64)>], limit: f64) -> Vec<f64> {
+    let mut sums = vec![0.0f64];
+    for opts in fps {
+        let mut next = sums.clone();
+        for s in &sums {
+            for (f, _, _) in opts {
+                let v = s + f[0];
+                if v <= limit + EPS {
+                    next.push(v);
+                }
+            }
+        }
+        next.sort_by(f64::total_cmp);
+        next.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
+        sums = next;
+    }
+    sums.retain(|&w| w > EPS);
+    sums
+}
+
+mod contact;
+mod grid;
+mod model;
+mod solve;
+mod solver;
+
+use contact::*;
+use grid::*;
+use model::*;
+pub use solve::*;
+use solver::*;

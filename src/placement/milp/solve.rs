@@ -1,0 +1,242 @@
+//! The exact placement: the area stage, then the contact stage, with the report of both.
+
+use super::*;
+
+/// Slide every object down and left until none moves: the result is BL-stable and its extents
+/// are no larger.
+pub fn compact(p: &Placement) -> Placement {
+    let mut t = p.targets.clone();
+    for _ in 0..10_000 {
+        let mut moved = false;
+        let mut order: Vec<usize> = (0..t.len()).collect();
+        order.sort_by(|&a, &b| (t[a].rect.y0 + t[a].rect.x0).total_cmp(&(t[b].rect.y0 + t[b].rect.x0)));
+        for &i in &order {
+            let r = t[i].rect;
+            let down = t
+                .iter()
+                .enumerate()
+                .filter(|(j, o)| *j != i && o.rect.overlap_on(&r, Axis2::X) > EPS && o.rect.y1 <= r.y0 + EPS)
+                .map(|(_, o)| o.rect.y1)
+                .fold(0.0, f64::max);
+            let r2 = Rect::new(r.x0, down, r.width(), r.depth());
+            let left = t
+                .iter()
+                .enumerate()
+                .filter(|(j, o)| *j != i && o.rect.overlap_on(&r2, Axis2::Y) > EPS && o.rect.x1 <= r2.x0 + EPS)
+                .map(|(_, o)| o.rect.x1)
+                .fold(0.0, f64::max);
+            let r3 = Rect::new(left, down, r.width(), r.depth());
+            if (r3.x0 - r.x0).abs() > EPS || (r3.y0 - r.y0).abs() > EPS {
+                t[i].rect = r3;
+                moved = true;
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+    Placement { targets: t }
+}
+
+/// Minimise the occupied area exactly (then maximise contact). `warm` only seeds the
+/// incumbent: an empty or invalid warm placement changes nothing but speed.
+pub fn solve(
+    inst: &Instance,
+    warm: &PlacementResult,
+    settings: &MilpSettings,
+    stop: &dyn Terminator,
+) -> Result<PlacementResult> {
+    solve_report(inst, warm, settings, stop).map(|(r, _)| r)
+}
+
+/// What [`solve_report`] did besides its result.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct MilpReport {
+    /// Proven lower bound and incumbent area over time.
+    pub trace: Vec<BoundPoint>,
+    /// Seconds in the area stage (boxes by area, exact packing search).
+    pub area_stage_s: f64,
+    /// Seconds in the contact stage (HiGHS MILPs).
+    pub contact_stage_s: f64,
+    /// Enclosing boxes decided, and how many of them needed the exact search.
+    pub boxes: u64,
+    /// Boxes decided by the exact search rather than by bounds or dominance.
+    pub boxes_searched: u64,
+    /// The area is proven minimal.
+    pub area_optimal: bool,
+    /// The contact length is proven maximal among area-optimal placements.
+    pub contact_optimal: bool,
+}
+
+/// [`solve`], with the bound-over-time trace and the cost of each stage.
+pub fn solve_report(
+    inst: &Instance,
+    warm: &PlacementResult,
+    settings: &MilpSettings,
+    stop: &dyn Terminator,
+) -> Result<(PlacementResult, MilpReport)> {
+    let start = Instant::now();
+    let left = |s: &MilpSettings| s.time_limit - start.elapsed().as_secs_f64();
+    let fps = footprints(inst);
+    let halt = || stop.should_stop() || left(settings) <= 0.0;
+    let warm_p = (!warm.placement.targets.is_empty()).then_some(&warm.placement);
+    // Without a warm start, a quarter of the limit may go to finding any packing at all.
+    let area = area::solve(
+        inst,
+        &fps,
+        warm_p,
+        settings.contact_stage,
+        start,
+        settings.time_limit * 0.25,
+        &halt,
+    );
+    let area_stage_s = start.elapsed().as_secs_f64();
+    let mut report = MilpReport {
+        trace: area.trace.clone(),
+        area_stage_s,
+        boxes: area.boxes,
+        boxes_searched: area.boxes_searched,
+        area_optimal: area.optimal,
+        ..MilpReport::default()
+    };
+    if area.infeasible {
+        return Err(Error::Infeasible {
+            reason: format!(
+                "the objects fit in no box inside the {} × {} container: every enclosing box was refuted by bounds or an exhaustive search ({} boxes)",
+                inst.container.width, inst.container.depth, area.boxes
+            ),
+        });
+    }
+    let Some(mut best) = area.best.clone() else {
+        return Err(Error::Stopped {
+            stage: "placement (milp)".into(),
+            limit: crate::error::TIME_LIMIT.into(),
+            nodes: area.nodes,
+            elapsed_s: area_stage_s,
+            min_actions: None,
+        });
+    };
+    let best_area = best.occupied_area();
+    let area_optimal = area.optimal;
+    let ties_closed = area.ties_closed;
+    let lower_bound = area.lower_bound;
+    let solutions = area.solutions;
+    let mut milps = 0u64;
+    let mut nodes = warm.nodes + area.nodes;
+    // Every object's footprints closed under swapping x and y: a placement transposes.
+    let transposable = fps.iter().all(|o| {
+        o.iter().all(|(f, _, _)| {
+            o.iter()
+                .any(|(g, _, _)| (g[0] - f[1]).abs() <= EPS && (g[1] - f[0]).abs() <= EPS)
+        })
+    });
+    let mut contact_optimal = false;
+    if settings.contact_stage && left(settings) > 0.0 && !stop.should_stop() {
+        // Every distinct extent pair reaching the optimal area gets its own contact stage.
+        let mut extents: Vec<(f64, f64)> = Vec::new();
+        for p in &solutions {
+            let e = p.extent();
+            if e.0 * e.1 <= best_area + AREA_TOL
+                && !extents
+                    .iter()
+                    .any(|f| (f.0 - e.0).abs() <= 1e-9 && (f.1 - e.1).abs() <= 1e-9)
+            {
+                extents.push(e);
+            }
+        }
+        let mut all_optimal = area_optimal && ties_closed;
+        let mut best_contact = best.contact_length(inst);
+        // The high walls earn contact only where the extent reaches them; with those matched,
+        // the contact stage of `(d, w)` is the transpose of that of `(w, d)`.
+        let (cw, cd) = (inst.container.width, inst.container.depth);
+        let walls_transpose =
+            |(w, d): (f64, f64)| (w >= cw - EPS) == (w >= cd - EPS) && (d >= cd - EPS) == (d >= cw - EPS);
+        let mut done: Vec<((f64, f64), bool)> = Vec::new();
+        for e in extents {
+            if left(settings) <= 0.0 {
+                all_optimal = false;
+                break;
+            }
+            // A transposed extent already solved has the same optimum, reached by the transposed
+            // placement; that ties with a contact already taken into `best_contact`, and only a
+            // strictly larger one replaces `best`, so the stage would change nothing.
+            if transposable && walls_transpose(e) {
+                if let Some(&(_, opt)) = done
+                    .iter()
+                    .find(|(f, _)| (f.0 - e.1).abs() <= 1e-9 && (f.1 - e.0).abs() <= 1e-9)
+                {
+                    all_optimal &= opt;
+                    continue;
+                }
+            }
+            let warm_p = solutions.iter().find(|p| {
+                let f = p.extent();
+                (f.0 - e.0).abs() <= 1e-9 && (f.1 - e.1).abs() <= 1e-9
+            });
+            // Enumeration first: in a box of the optimal area packings are few. It gets the
+            // area stage's time (at least a second); the MILP gets what remains of it.
+            // `MilpSettings::contact_budget_s` overrides it, for measurements.
+            let deadline = settings.contact_budget_s.unwrap_or(area_stage_s.max(1.0));
+            let contact_left = || (deadline - (start.elapsed().as_secs_f64() - area_stage_s)).min(left(settings));
+            let halt_contact = || stop.should_stop() || contact_left() <= 0.0;
+            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, best_contact, &halt_contact);
+            nodes += n_enum;
+            if let Some(p) = &enum_best {
+                let c = p.contact_length(inst);
+                if c > best_contact + 1e-9 && p.occupied_area() <= best_area + 1e-12 {
+                    best = p.clone();
+                    best_contact = c;
+                }
+            }
+            if complete {
+                done.push((e, true));
+                continue;
+            }
+            if contact_left() <= 0.0 {
+                all_optimal = false;
+                continue;
+            }
+            let warm_p = enum_best.as_ref().or(warm_p);
+            let res = if GridModel::size(inst, &fps, e.0, e.1) <= settings.grid_max_nnz {
+                grid_contact_stage(inst, &fps, e, warm_p, contact_left(), settings.seed)?
+            } else if let Some(wp) = warm_p {
+                contact_stage(inst, &fps, wp, contact_left(), settings.seed)?
+            } else {
+                None
+            };
+            milps += 1;
+            match res {
+                Some((p, opt, n2)) => {
+                    nodes += n2;
+                    all_optimal &= opt;
+                    done.push((e, opt));
+                    let c = p.contact_length(inst);
+                    if c > best_contact + 1e-9 && p.occupied_area() <= best_area + 1e-12 {
+                        best = p;
+                        best_contact = c;
+                    }
+                }
+                None => all_optimal = false,
+            }
+        }
+        contact_optimal = all_optimal;
+    }
+    debug_assert!(is_bl_stable(&best.targets));
+    report.contact_stage_s = start.elapsed().as_secs_f64() - area_stage_s;
+    report.contact_optimal = contact_optimal;
+    let status = if area_optimal && contact_optimal {
+        PlacementStatus::Optimal
+    } else {
+        PlacementStatus::Feasible
+    };
+    let result = PlacementResult {
+        placement: best,
+        status,
+        lower_bound: if area_optimal { best_area } else { lower_bound },
+        solver: "milp".into(),
+        time_s: start.elapsed().as_secs_f64() + warm.time_s,
+        nodes,
+        subproblems: milps,
+    };
+    Ok((result, report))
+}

@@ -1,0 +1,127 @@
+//! Running HiGHS on a model: options, warm start, node count, and reading the placement back.
+
+use super::*;
+
+/// Outcome of one HiGHS run.
+pub(super) struct Solved {
+    pub(super) status: HighsModelStatus,
+    pub(super) cols: Option<Vec<f64>>,
+    pub(super) nodes: u64,
+}
+
+pub(super) fn run_highs(
+    problem: good_lp::solvers::highs::HighsProblem,
+    initial: Option<&[f64]>,
+    time_left: f64,
+    seed: u64,
+    abs_gap: f64,
+    presolve: bool,
+) -> Result<Solved> {
+    let mut model = problem.try_into_inner().map_err(|e| Error::Solver {
+        solver: "HiGHS".into(),
+        reason: format!("could not build the model: {e}"),
+    })?;
+    model.make_quiet();
+    model.set_option("time_limit", time_left.max(0.01));
+    model.set_option("mip_rel_gap", 0.0);
+    model.set_option("mip_abs_gap", abs_gap);
+    model.set_option("random_seed", (seed % i32::MAX as u64) as i32);
+    model.set_option("threads", 1);
+    if !presolve {
+        model.set_option("presolve", "off");
+    }
+    if let Some(sol) = initial {
+        model.set_solution(Some(sol), None, None, None);
+    }
+    let solved = model.try_solve().map_err(|e| Error::Solver {
+        solver: "HiGHS".into(),
+        reason: format!("{e:?}"),
+    })?;
+    let status = solved.status();
+    let has_sol = solved.primal_solution_status() == highs::HighsSolutionStatus::Feasible;
+    let cols = if has_sol {
+        Some(solved.get_solution().columns().to_vec())
+    } else {
+        None
+    };
+    let nodes = mip_node_count(&solved);
+    Ok(Solved { status, cols, nodes })
+}
+
+/// HiGHS's branch-and-bound node count (an int64 info value the `highs` crate does not read).
+pub(super) fn mip_node_count(solved: &highs::SolvedModel) -> u64 {
+    let mut v: i64 = 0;
+    // SAFETY: `solved` owns a live HiGHS instance for the duration of the call, the name is a
+    // NUL-terminated C string, and `v` is a valid, writable i64 as the C API requires.
+    let status = unsafe { highs_sys::Highs_getInt64InfoValue(solved.as_ptr(), c"mip_node_count".as_ptr(), &mut v) };
+    if status == highs_sys::STATUS_OK {
+        v.max(0) as u64
+    } else {
+        0
+    }
+}
+
+/// Read a placement from a solved column vector.
+pub(super) fn extract(
+    inst: &Instance,
+    fps: &[Vec<([f64; 2], Orientation, f64)>],
+    m: &PlacementModel,
+    cols: &[f64],
+) -> Placement {
+    let targets = (0..inst.n())
+        .map(|i| {
+            let k = m.s[i]
+                .iter()
+                .enumerate()
+                .max_by(|a, b| cols[a.1 .1].total_cmp(&cols[b.1 .1]))
+                .map(|(k, _)| k)
+                .expect("at least one orientation");
+            let (f, q, h) = fps[i][k];
+            // Snap to the 0.1 µm grid: MILP solutions carry solver tolerances.
+            let snap = |v: f64| (v * 1e7).round() / 1e7;
+            Target {
+                orientation: q,
+                rect: Rect::new(snap(cols[m.x[i].1]).max(0.0), snap(cols[m.y[i].1]).max(0.0), f[0], f[1]),
+                height: h,
+            }
+        })
+        .collect();
+    Placement { targets }
+}
+
+/// Column vector of a known placement for the model (warm start).
+pub(super) fn initial_columns(
+    fps: &[Vec<([f64; 2], Orientation, f64)>],
+    m: &PlacementModel,
+    p: &Placement,
+    ncols: usize,
+) -> Vec<f64> {
+    let mut v = vec![0.0; ncols];
+    for (i, t) in p.targets.iter().enumerate() {
+        for ((_, c), (f, _, _)) in m.s[i].iter().zip(&fps[i]) {
+            if (f[0] - t.rect.width()).abs() <= EPS && (f[1] - t.rect.depth()).abs() <= EPS {
+                v[*c] = 1.0;
+                break;
+            }
+        }
+        v[m.x[i].1] = t.rect.x0;
+        v[m.y[i].1] = t.rect.y0;
+    }
+    for (i, j, b) in &m.pairs {
+        let (a, c) = (p.targets[*i].rect, p.targets[*j].rect);
+        let rel = [
+            a.x1 <= c.x0 + EPS,
+            c.x1 <= a.x0 + EPS,
+            a.y1 <= c.y0 + EPS,
+            c.y1 <= a.y0 + EPS,
+        ];
+        for k in 0..4 {
+            if let (Some((_, col)), true) = (b[k], rel[k]) {
+                v[col] = 1.0;
+                break;
+            }
+        }
+    }
+    v[m.depth.1] = p.extent().1;
+    v
+}
