@@ -667,6 +667,8 @@ proptest! {
         opts.bl_orders = 4;
         opts.max_nodes = 20_000;
         opts.time_limit = 10.0;
+        // Random boxes in any orientation: a packing study, which the robot need not run.
+        opts.packing_only = true;
         match optimize(&inst, &opts) {
             Ok(out) => {
                 prop_assert_eq!(out.plan.placements.len(), inst.n());

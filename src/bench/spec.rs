@@ -24,6 +24,10 @@ pub struct PlannerSpec {
     pub no_multi_push: bool,
     /// Alternative placements allowed (`altN`; 0 when absent).
     pub placement_alternatives: usize,
+    /// A packing-only study (`packing-only`): robot issues do not make a plan invalid
+    /// ([`PlanOptions::packing_only`]). Written right after the sequencer in the canonical
+    /// name, so that the ablation variants of a packing-only planner extend its name.
+    pub packing_only: bool,
 }
 
 impl PlannerSpec {
@@ -60,6 +64,7 @@ impl PlannerSpec {
             no_direct: false,
             no_multi_push: false,
             placement_alternatives: 0,
+            packing_only: false,
         };
         for a in &parts[2..] {
             if let Some(n) = a.strip_prefix("alt") {
@@ -75,11 +80,12 @@ impl PlannerSpec {
                 continue;
             }
             let flag = match *a {
+                "packing-only" => &mut spec.packing_only,
                 "no-direct" => &mut spec.no_direct,
                 "no-multi-push" => &mut spec.no_multi_push,
                 other => {
                     return Err(bad(format!(
-                        "planner {text:?}: option must be no-direct, no-multi-push or altN, got {other:?}"
+                        "planner {text:?}: option must be packing-only, no-direct, no-multi-push or altN, got {other:?}"
                     )))
                 }
             };
@@ -124,6 +130,7 @@ impl PlannerSpec {
         o.no_direct = self.no_direct;
         o.no_multi_push = self.no_multi_push;
         o.placement_alternatives = self.placement_alternatives;
+        o.packing_only = self.packing_only;
         o.time_limit = time_limit;
         o
     }
@@ -140,6 +147,9 @@ impl fmt::Display for PlannerSpec {
             Sequencer::Astar => "astar",
         };
         write!(f, "{p}+{s}")?;
+        if self.packing_only {
+            write!(f, "+packing-only")?;
+        }
         if self.no_direct {
             write!(f, "+no-direct")?;
         }

@@ -78,6 +78,10 @@ enum Cmd {
         /// Print the report as JSON.
         #[arg(long)]
         json: bool,
+        /// Judge the packing only: robot issues are reported but do not fail the plan (as for
+        /// a plan made with `plan --packing-only`).
+        #[arg(long)]
+        packing_only: bool,
     },
     /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, or CSV).
     Export {
@@ -203,9 +207,13 @@ struct PlanArgs {
     /// Forbid multi-object pushes (the paper's Table II ablation).
     #[arg(long)]
     no_multi_push: bool,
-    /// Time limit per stage in seconds.
+    /// Time limit of the whole run in seconds (placement, sequence and joint trajectories).
     #[arg(long)]
     time_limit: Option<f64>,
+    /// A packing-only study: robot issues (a box the gripper would have to turn over, a pose
+    /// out of reach) are reported but do not fail the plan, which is then not executable.
+    #[arg(long)]
+    packing_only: bool,
     /// Placement solver (default: milp up to 10 objects, bl above).
     #[arg(long, value_parser = ["bl", "milp"])]
     placement: Option<String>,
@@ -249,6 +257,7 @@ impl PlanArgs {
             o.max_nodes = n;
         }
         o.placement_alternatives = self.placement_alternatives;
+        o.packing_only |= self.packing_only;
         Ok(o)
     }
 }
@@ -433,10 +442,24 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             outcome.plan.save(&path)?;
             print_summary(&inst, &outcome);
             let report = verify(&inst, &outcome.plan);
-            if report.is_valid() && report.robot_issues.is_empty() {
-                println!("verify     valid (packing and joint trajectories)");
+            if let Some(t) = outcome.plan.robot_time_s() {
+                println!("robot time {t:.1} s (both arms in turn, joint trajectories included)");
+            }
+            if report.is_executable() {
+                println!("verify     valid (packing and joint trajectories): the robot can run it");
+            } else if report.is_valid() {
+                println!(
+                    "verify     valid as a packing-only plan, not executable ({} robot issue(s))",
+                    report.robot_issues.len()
+                );
+                for v in &report.robot_issues {
+                    println!("  {v}");
+                }
             } else {
                 println!("verify     {report}");
+                if !report.robot_issues.is_empty() && report.is_packing_valid() {
+                    println!("hint       the packing is valid; --packing-only accepts a plan the robot cannot run");
+                }
             }
             println!("wrote      {}", path.display());
             if !no_render {
@@ -446,9 +469,15 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             }
             Ok(if report.is_valid() { EXIT_OK } else { EXIT_FAIL })
         }
-        Cmd::Verify { instance, plan, json } => {
+        Cmd::Verify {
+            instance,
+            plan,
+            json,
+            packing_only,
+        } => {
             let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
-            let report = verify(&inst, &p);
+            let mut report = verify(&inst, &p);
+            report.packing_only |= packing_only;
             if json {
                 println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
             } else {

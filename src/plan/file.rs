@@ -194,6 +194,12 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// The robot's execution time: the end of the last joint trajectory (s), when the plan has
+    /// trajectories. The arms move in turn, so this is the sum of every action's motion.
+    pub fn robot_time_s(&self) -> Option<f64> {
+        self.trajectories.iter().map(|t| t.t_end).reduce(f64::max)
+    }
+
     /// The trajectories of one arm, in time order.
     pub fn arm_trajectories(&self, arm: Arm) -> Vec<&crate::motion::ActionTrajectory> {
         let mut v: Vec<&crate::motion::ActionTrajectory> = self.trajectories.iter().filter(|t| t.arm == arm).collect();

@@ -118,6 +118,11 @@ pub struct PlanOptions {
     /// need.
     #[serde(default)]
     pub placement_alternatives: usize,
+    /// A packing-only study: the plan does not claim that the robot can run it, so robot
+    /// issues (a box turned over, a pose out of reach) are reported but do not make it invalid
+    /// (default false: plans are meant to be executable).
+    #[serde(default)]
+    pub packing_only: bool,
 }
 
 impl PlanOptions {
@@ -138,6 +143,7 @@ impl PlanOptions {
             max_nodes: s.max_nodes,
             bl_orders: s.bl_orders,
             placement_alternatives: 0,
+            packing_only: false,
         }
     }
 }

@@ -12,6 +12,7 @@
 //! instance at all ([`ViolationClass::Format`] from [`Plan::placement`] / [`Plan::actions`])
 //! stops the replay.
 
+mod claims;
 mod slabs;
 pub mod trajectories;
 
@@ -50,6 +51,9 @@ pub enum ViolationClass {
     FinalPose,
     /// Recorded metrics, costs or placement summary differ from the recomputed values.
     Metrics,
+    /// A claimed status, bound or gap contradicts the plan's own numbers (an `optimal` with a
+    /// gap, a bound above the objective, a heuristic called optimal).
+    Claim,
     /// A joint trajectory violates a joint limit, disagrees with its recorded TCP poses (FK),
     /// jumps between points, or collides (checked by `robot::check_trajectories`).
     Robot,
@@ -69,6 +73,7 @@ impl ViolationClass {
             ViolationClass::Precedence => "precedence",
             ViolationClass::FinalPose => "final_pose",
             ViolationClass::Metrics => "metrics",
+            ViolationClass::Claim => "claim",
             ViolationClass::Robot => "robot",
         }
     }
@@ -112,17 +117,27 @@ pub struct Report {
     /// (only around unreachable key poses); see docs/robot.md.
     #[serde(default)]
     pub robot_issues: Vec<Violation>,
+    /// The plan declares itself a packing-only study (`options.packing_only`): robot issues
+    /// are reported but do not make it invalid, and it is never executable.
+    #[serde(default)]
+    pub packing_only: bool,
 }
 
 impl Report {
-    /// True when the packing plan violates no condition (joint trajectories aside).
+    /// True when the plan violates none of the conditions it claims to meet: every packing
+    /// condition, and every robot and trajectory condition unless it is packing-only.
     pub fn is_valid(&self) -> bool {
+        self.violations.is_empty() && (self.packing_only || self.robot_issues.is_empty())
+    }
+
+    /// True when the packing is valid (whatever the robot issues).
+    pub fn is_packing_valid(&self) -> bool {
         self.violations.is_empty()
     }
 
-    /// True when the packing plan is valid and its joint trajectories have no problem either.
+    /// True when the robot can run the plan: valid, not packing-only, no robot issue.
     pub fn is_executable(&self) -> bool {
-        self.is_valid() && self.robot_issues.is_empty()
+        self.violations.is_empty() && self.robot_issues.is_empty() && !self.packing_only
     }
 
     /// True when at least one violation of `class` was found.
@@ -133,14 +148,20 @@ impl Report {
 
 impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.is_valid() {
-            write!(f, "plan is valid ({} steps checked)", self.steps_checked)?;
+        let n = self.violations.len() + if self.packing_only { 0 } else { self.robot_issues.len() };
+        if self.is_executable() {
+            write!(f, "plan is valid and executable ({} steps checked)", self.steps_checked)?;
+        } else if self.is_valid() {
+            write!(
+                f,
+                "plan is valid as a packing-only plan ({} steps checked)",
+                self.steps_checked
+            )?;
         } else {
             write!(
                 f,
-                "plan is INVALID: {} violation{} ({} steps checked)",
-                self.violations.len(),
-                if self.violations.len() == 1 { "" } else { "s" },
+                "plan is INVALID: {n} violation{} ({} steps checked)",
+                if n == 1 { "" } else { "s" },
                 self.steps_checked
             )?;
             for v in &self.violations {
@@ -150,8 +171,13 @@ impl fmt::Display for Report {
         if !self.robot_issues.is_empty() {
             write!(
                 f,
-                "\njoint trajectories: {} problem(s) (not yet avoided by the planner):",
-                self.robot_issues.len()
+                "\nrobot and joint trajectories: {} problem(s){}:",
+                self.robot_issues.len(),
+                if self.packing_only {
+                    " (a packing-only plan: not counted)"
+                } else {
+                    ""
+                }
             )?;
             for v in &self.robot_issues {
                 write!(f, "\n  {v}")?;
@@ -191,6 +217,7 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
                 violations: out,
                 steps_checked: 0,
                 robot_issues: Vec::new(),
+                packing_only: plan.options.packing_only,
             };
         }
     };
@@ -202,6 +229,7 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
                 violations: out,
                 steps_checked: 0,
                 robot_issues: Vec::new(),
+                packing_only: plan.options.packing_only,
             };
         }
     };
@@ -215,21 +243,36 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
     }
     r.check_final();
     r.check_metrics(plan, &actions);
-    // Joint trajectories are optional in a plan; when present they are checked in full.
+    for message in claims::status_claims(plan) {
+        r.flag(None, ViolationClass::Claim, message);
+    }
+    // An executable plan needs its joint trajectories; a packing-only one may leave them out,
+    // and when present they are checked in full either way.
     let mut robot_issues = Vec::new();
-    if !plan.trajectories.is_empty() {
+    let mut robot = |k: Option<usize>, message: String| {
+        robot_issues.push(Violation {
+            step: k.map(|k| k + 1),
+            class: ViolationClass::Robot,
+            message,
+        })
+    };
+    if plan.trajectories.is_empty() {
+        if !plan.options.packing_only {
+            robot(None, "no joint trajectories: a plan the robot is to run needs them (packing-only plans say so in options.packing_only)".into());
+        }
+    } else {
         for (k, message) in crate::verify::trajectories::check_trajectories(inst, plan) {
-            robot_issues.push(Violation {
-                step: k.map(|k| k + 1),
-                class: ViolationClass::Robot,
-                message,
-            });
+            robot(k, message);
+        }
+        for (k, message) in claims::robot_records(inst, plan) {
+            robot(k, message);
         }
     }
     Report {
         violations: r.out,
         steps_checked: actions.len(),
         robot_issues,
+        packing_only: plan.options.packing_only,
     }
 }
 
