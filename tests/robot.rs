@@ -551,7 +551,11 @@ fn turning_an_object_over_is_a_robot_issue_unless_the_cell_can_regrasp() {
     let out = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans");
     assert!(flips(&inst, &out) > 0, "the placement should stand some object up");
     let report = pushpack::verify::verify(&inst, &out.plan);
-    assert!(report.is_valid(), "{report}");
+    // A valid packing that the robot cannot run: the plan as a whole is not valid.
+    assert!(
+        report.is_packing_valid() && !report.is_valid() && !report.is_executable(),
+        "{report}"
+    );
     let turned: Vec<_> = report
         .robot_issues
         .iter()

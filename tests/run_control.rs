@@ -32,6 +32,8 @@ fn a_terminator_that_fires_mid_search_returns_the_best_plan_so_far_marked_cancel
     let mut o = PlanOptions::from_instance(&inst);
     o.sequencer = Sequencer::Astar;
     o.time_limit = 600.0;
+    // The committed 16-object set allows any orientation: a packing study.
+    o.packing_only = true;
     let stop = FiresAfter {
         asked: Cell::new(0),
         n: 300,
@@ -82,7 +84,14 @@ fn ctrl_c_stops_pushpack_plan_cleanly_and_writes_the_best_plan_so_far() {
     use std::process::{Command, Stdio};
     let out = tempfile::tempdir().unwrap();
     let child = Command::new(env!("CARGO_BIN_EXE_pushpack"))
-        .args(["plan", &common::bundled(LONG), "--time-limit", "600", "--out"])
+        .args([
+            "plan",
+            &common::bundled(LONG),
+            "--packing-only",
+            "--time-limit",
+            "600",
+            "--out",
+        ])
         .arg(out.path())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -17,6 +17,7 @@ fn plan(inst: &Instance, sequencer: Sequencer) -> Option<pushpack::plan::PlanOut
     let mut o = PlanOptions::from_instance(inst);
     o.placement = PlacementSolver::Bl;
     o.sequencer = sequencer;
+    o.packing_only = common::packing_study(inst);
     match optimize(inst, &o) {
         Ok(out) => {
             let r = verify(inst, &out.plan);
@@ -194,6 +195,7 @@ fn a_placement_proven_to_have_no_plan_falls_back_to_the_next_bl_placement() {
     let inst = Instance::load(&path).unwrap();
     let mut o = PlanOptions::from_instance(&inst);
     o.placement = PlacementSolver::Bl;
+    o.packing_only = common::packing_study(&inst);
     // Long enough for A*'s first dive on a loaded CI machine (2 s idle); the search then runs
     // to the limit without a proof, which this test does not need.
     o.time_limit = 30.0;

@@ -75,3 +75,13 @@ pub fn random_instance_text_step(seed: u64, n: usize, kinds: usize, orientations
 pub fn parse(text: &str) -> Instance {
     Instance::parse(text, false, "<test>", None).unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
+
+/// True when the instance lets some box turn onto another face: a top-down pick cannot do that,
+/// so plans of such an instance are packing studies (`PlanOptions::packing_only`).
+pub fn packing_study(inst: &Instance) -> bool {
+    !inst.robot.regrasp
+        && inst
+            .objects
+            .iter()
+            .any(|o| o.orientations.iter().any(|q| q.up != o.table.up))
+}
