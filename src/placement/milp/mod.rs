@@ -42,6 +42,18 @@ use highs::HighsModelStatus;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
+mod contact;
+mod grid;
+mod model;
+mod solve;
+mod solver;
+
+use contact::*;
+use grid::*;
+use model::*;
+pub use solve::*;
+use solver::*;
+
 /// Tolerance on areas when collecting the extents tied with the optimum.
 const AREA_TOL: f64 = 1e-9;
 
@@ -114,15 +126,3 @@ pub fn candidate_widths(fps: &[Vec<([f64; 2], Orientation, f64)>], limit: f64) -
     sums.retain(|&w| w > EPS);
     sums
 }
-
-mod contact;
-mod grid;
-mod model;
-mod solve;
-mod solver;
-
-use contact::*;
-use grid::*;
-use model::*;
-pub use solve::*;
-use solver::*;

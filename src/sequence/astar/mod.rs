@@ -36,6 +36,19 @@ use std::collections::{BinaryHeap, HashMap};
 use std::rc::Rc;
 use std::time::Instant;
 
+mod bounds;
+mod cover;
+mod expand;
+mod hits;
+mod lines;
+mod search;
+mod state;
+
+use cover::*;
+use hits::*;
+pub use lines::*;
+pub use search::*;
+
 /// A* settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AstarSettings {
@@ -367,19 +380,6 @@ enum DiveOrder {
     /// Pushes first, then places nearest the container's origin corner.
     FrontFirst,
 }
-
-mod bounds;
-mod cover;
-mod expand;
-mod hits;
-mod lines;
-mod search;
-mod state;
-
-use cover::*;
-use hits::*;
-pub use lines::*;
-pub use search::*;
 
 #[cfg(test)]
 mod tests {

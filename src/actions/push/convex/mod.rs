@@ -29,6 +29,18 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
+mod assemble;
+mod check;
+mod data;
+mod phase;
+mod program;
+
+use assemble::*;
+pub use check::*;
+use data::*;
+pub use phase::*;
+use program::*;
+
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
@@ -211,18 +223,6 @@ impl CheckResult {
             .min_by(|a, b| key(a.margin).total_cmp(&key(b.margin)))
     }
 }
-
-mod assemble;
-mod check;
-mod data;
-mod phase;
-mod program;
-
-use assemble::*;
-pub use check::*;
-use data::*;
-pub use phase::*;
-use program::*;
 
 #[cfg(test)]
 mod tests {

@@ -30,6 +30,14 @@
 use std::fmt;
 use std::path::Path;
 
+mod contact;
+mod parse;
+mod report;
+
+use contact::*;
+pub use parse::*;
+pub use report::*;
+
 use serde::{Deserialize, Serialize};
 
 use super::convex::{self, Binding, CheckOptions, CheckResult, ContactForce, Dim, FloorForce, PhaseStatus};
@@ -183,11 +191,3 @@ pub fn load_scenario(path: impl AsRef<Path>) -> Result<Scenario> {
     })?;
     parse_scenario(&text, &path.display().to_string())
 }
-
-mod contact;
-mod parse;
-mod report;
-
-use contact::*;
-pub use parse::*;
-pub use report::*;
