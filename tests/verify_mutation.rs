@@ -250,3 +250,37 @@ fn every_tampered_plan_is_rejected() {
         survivors.join("\n")
     );
 }
+
+/// `pushpack export` refuses a plan whose trajectories a controller could not take, whatever
+/// the instance: never a partial export.
+#[test]
+fn export_refuses_tampered_trajectories() {
+    let plan = valid_plan();
+    let dir = tempfile::tempdir().unwrap();
+    let fmt = pushpack::plan::export::ExportFormat::RosJson;
+    let p = Plan::from_json(&plan.to_string(), "plan.json").unwrap();
+    pushpack::plan::export::export(&p, fmt, dir.path()).expect("the valid plan exports");
+    let kinds = [
+        "velocities of 1000 rad/s",
+        "5 values for 6 joints",
+        "time going backwards",
+        "t = 1e300",
+        "10× faster",
+    ];
+    let mut checked = 0;
+    for (name, f) in mutations(plan)
+        .iter()
+        .filter(|(n, _)| kinds.iter().any(|k| n.contains(k)))
+    {
+        let mut v = plan.clone();
+        f(&mut v);
+        let Ok(p) = Plan::from_json(&v.to_string(), "tampered.json") else {
+            checked += 1;
+            continue;
+        };
+        let r = pushpack::plan::export::export(&p, fmt, dir.path());
+        assert!(r.is_err(), "{name}: exported");
+        checked += 1;
+    }
+    assert_eq!(checked, 3 * kinds.len());
+}

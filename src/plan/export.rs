@@ -263,6 +263,7 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
             ),
         ));
     }
+    exportable(plan, file)?;
     std::fs::create_dir_all(out_dir).map_err(|e| Error::Io {
         path: out_dir.to_path_buf(),
         source: e,
@@ -285,4 +286,104 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
         written.push(path);
     }
     Ok(written)
+}
+
+/// The checks a controller's input needs and that need no instance: every number finite, time
+/// running forward inside each trajectory and across one arm's trajectories, one value per
+/// joint, and recorded velocities within the plan's own limits. A plan that fails is refused,
+/// never exported in part (a point at t = 1e300 once dropped most of a trajectory silently).
+fn exportable(plan: &Plan, file: &str) -> Result<()> {
+    let bad = |field: String, reason: String| Err(Error::input(file, field, reason));
+    let limits = plan
+        .robot
+        .as_ref()
+        .map(|r| r.velocity_limits.clone())
+        .unwrap_or_default();
+    for (k, t) in plan.trajectories.iter().enumerate() {
+        let f = |s: &str| format!("trajectories[{k}].{s}");
+        if !(t.t_start.is_finite() && t.t_end.is_finite() && t.t_start <= t.t_end) {
+            return bad(
+                f("t_end"),
+                format!("{}: times {} to {} do not run forward", t.label, t.t_start, t.t_end),
+            );
+        }
+        let n = t.joint_names.len();
+        let mut prev = t.t_start;
+        for (i, p) in t.points.iter().enumerate() {
+            let fp = |s: &str| f(&format!("points[{i}].{s}"));
+            if !p.t.is_finite() || p.t < prev - 1e-9 || p.t > t.t_end + 1e-9 {
+                return bad(
+                    fp("t"),
+                    format!(
+                        "{}: t = {} is not between the previous point ({prev}) and t_end ({})",
+                        t.label, p.t, t.t_end
+                    ),
+                );
+            }
+            if p.positions.len() != n || p.positions.iter().any(|q| !q.is_finite()) {
+                return bad(
+                    fp("positions"),
+                    format!(
+                        "{}: {} finite values needed for {n} joints, got {:?}",
+                        t.label, n, p.positions
+                    ),
+                );
+            }
+            // Finite differences, with 1 % for time stamps rounded to the sampling step.
+            if let Some(q) = i.checked_sub(1).map(|h| &t.points[h]) {
+                let dt = p.t - q.t;
+                for (j, (a, b)) in q.positions.iter().zip(&p.positions).enumerate() {
+                    let lim = limits.get(j).copied().unwrap_or(f64::INFINITY);
+                    if (b - a).abs() > (lim * 1.01) * dt + 1e-6 {
+                        return bad(
+                            fp("positions"),
+                            format!(
+                                "{}: joint {j} moves {:.4} rad in {dt:.4} s before t = {:.3} s, faster than {lim} rad/s",
+                                t.label,
+                                (b - a).abs(),
+                                p.t
+                            ),
+                        );
+                    }
+                }
+            }
+            prev = p.t;
+            if !p.velocities.is_empty() && p.velocities.len() != n {
+                return bad(
+                    fp("velocities"),
+                    format!("{}: {} values for {n} joints", t.label, p.velocities.len()),
+                );
+            }
+            for (j, v) in p.velocities.iter().enumerate() {
+                let lim = limits.get(j).copied().unwrap_or(f64::INFINITY);
+                if !v.is_finite() || v.abs() > lim * (1.0 + 1e-6) + 1e-9 {
+                    return bad(
+                        fp(&format!("velocities[{j}]")),
+                        format!(
+                            "{}: {v} rad/s at t = {:.3} s exceeds the limit {lim} rad/s",
+                            t.label, p.t
+                        ),
+                    );
+                }
+            }
+        }
+    }
+    for arm in [Arm::Left, Arm::Right] {
+        let mut end = f64::NEG_INFINITY;
+        for t in plan.arm_trajectories(arm) {
+            if t.t_start < end - 1e-9 {
+                return bad(
+                    "trajectories".into(),
+                    format!(
+                        "{}: the {} arm's trajectories overlap in time ({} starts before {end})",
+                        t.label,
+                        arm.name(),
+                        t.t_start
+                    ),
+                );
+            }
+            end = t.t_end;
+        }
+    }
+    Ok(())
 }
