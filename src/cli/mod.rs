@@ -325,150 +325,14 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             seed,
             time_limit,
             json,
-        } => {
-            let inst = Instance::load(&instance)?;
-            let solver = if solver == "milp" {
-                PlacementSolver::Milp
-            } else {
-                PlacementSolver::Bl
-            };
-            let t = positive_time(time_limit, "--time-limit")?.unwrap_or(inst.settings.time_limit);
-            let (r, report) = pushpack::plan::solve_placement_report(
-                &inst,
-                solver,
-                seed.unwrap_or(inst.settings.seed),
-                inst.settings.bl_orders,
-                t,
-            )?;
-            if json {
-                // The result, plus the objective it optimised (lexicographic: area, then
-                // contact), the gap, and for the exact solver the bound over time.
-                let mut v = serde_json::to_value(&r).expect("serialisable");
-                v["objective"] = serde_json::json!({
-                    "occupied_area": r.placement.occupied_area(),
-                    "contact_length": r.placement.contact_length(&inst),
-                    "order": ["min occupied_area", "max contact_length"],
-                });
-                v["gap"] = serde_json::json!(r.gap());
-                if let Some(rep) = report {
-                    v["report"] = serde_json::to_value(&rep).expect("serialisable");
-                }
-                println!("{}", serde_json::to_string_pretty(&v).expect("serialisable"));
-            } else {
-                println!(
-                    "placement ({}, {:?}): occupied area {:.6} m², lower bound {:.6} m² (gap {:.2} %), contact length {:.4} m, {} nodes, {} MILPs, {:.3} s",
-                    r.solver,
-                    r.status,
-                    r.placement.occupied_area(),
-                    r.lower_bound,
-                    100.0 * r.gap(),
-                    r.placement.contact_length(&inst),
-                    r.nodes,
-                    r.subproblems,
-                    r.time_s
-                );
-                for (i, t) in r.placement.targets.iter().enumerate() {
-                    println!(
-                        "  {:>6}  {:>4}  x {:.4}  y {:.4}  {:.4} x {:.4} x {:.4}",
-                        inst.objects[i].id,
-                        t.orientation.label(),
-                        t.rect.x0,
-                        t.rect.y0,
-                        t.rect.width(),
-                        t.rect.depth(),
-                        t.height
-                    );
-                }
-            }
-            Ok(EXIT_OK)
-        }
+        } => cmd_place(instance, solver, seed, time_limit, json),
         Cmd::Plan {
             instance,
             out,
             opts,
             no_render,
             compare_ablations,
-        } => {
-            let inst = Instance::load(&instance)?;
-            let o = opts.options(&inst)?;
-            if compare_ablations {
-                print_ablations(&inst, &o)?;
-            }
-            std::fs::create_dir_all(&out).map_err(|e| Error::Io {
-                path: out.clone(),
-                source: e,
-            })?;
-            let cancel = progress::cancel_on_ctrl_c();
-            let mut bar = progress::Progress::new();
-            let (placed, result) = optimize_stages(&inst, &o, &cancel, &mut bar);
-            bar.finish();
-            let outcome = match (placed, result) {
-                (_, Ok(x)) => x,
-                (None, Err(e)) => return Err(e),
-                (Some(placed), Err(e)) => {
-                    if let Some(status) = e.status() {
-                        eprintln!("status     {status}: no plan ({e})");
-                    }
-                    // No plan.json without a sequence, but the placement was found and is the
-                    // first thing a user looks at to see why: write it and say where.
-                    let path = out.join("placement.json");
-                    let json = serde_json::to_string_pretty(&placed).expect("serialisable");
-                    std::fs::write(&path, json + "\n").map_err(|e| Error::Io {
-                        path: path.clone(),
-                        source: e,
-                    })?;
-                    eprintln!("wrote      {} (the placement; no sequence was found)", path.display());
-                    if !no_render {
-                        let svg = render_placement(&inst, &placed, &out)?;
-                        eprintln!("wrote      {}", svg.display());
-                    }
-                    if matches!(e, Error::Infeasible { .. }) && o.placement_alternatives == 0 {
-                        eprintln!(
-                            "hint       --placement-alternatives N tries the next N Bottom-Left placements when one is proven to have no plan"
-                        );
-                    }
-                    for stale in ["plan.json", "storyboard.svg", "swept.svg"] {
-                        if out.join(stale).exists() {
-                            eprintln!(
-                                "note       {} is from an earlier run, not this one",
-                                out.join(stale).display()
-                            );
-                        }
-                    }
-                    return Err(e);
-                }
-            };
-            let path = out.join("plan.json");
-            outcome.plan.save(&path)?;
-            print_summary(&inst, &outcome);
-            let report = verify(&inst, &outcome.plan);
-            if let Some(t) = outcome.plan.robot_time_s() {
-                println!("robot time {t:.1} s (both arms in turn, joint trajectories included)");
-            }
-            if report.is_executable() {
-                println!("verify     valid (packing and joint trajectories): the robot can run it");
-            } else if report.is_valid() {
-                println!(
-                    "verify     valid as a packing-only plan, not executable ({} robot issue(s))",
-                    report.robot_issues.len()
-                );
-                for v in &report.robot_issues {
-                    println!("  {v}");
-                }
-            } else {
-                println!("verify     {report}");
-                if !report.robot_issues.is_empty() && report.is_packing_valid() {
-                    println!("hint       the packing is valid; --packing-only accepts a plan the robot cannot run");
-                }
-            }
-            println!("wrote      {}", path.display());
-            if !no_render {
-                for f in render(&inst, &outcome.plan, &out)? {
-                    println!("wrote      {}", f.display());
-                }
-            }
-            Ok(if report.is_valid() { EXIT_OK } else { EXIT_FAIL })
-        }
+        } => cmd_plan(instance, out, opts, no_render, compare_ablations),
         Cmd::Verify {
             instance,
             plan,
@@ -539,55 +403,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             println!("wrote {} instances to {}", files.len(), out.display());
             Ok(EXIT_OK)
         }
-        Cmd::Bench {
-            instances,
-            planners,
-            time_limit,
-            hard_limit,
-            jobs,
-            out,
-            shard,
-            resume,
-            max_runs,
-        } => {
-            let time_limit = positive_time(Some(time_limit), "--time-limit")?.unwrap_or(time_limit);
-            let hard_limit = match positive_time(hard_limit, "--hard-limit")? {
-                Some(h) => h,
-                None => 2.0 * time_limit + 30.0,
-            };
-            let jobs = match jobs {
-                Some(0) => return Err(Error::input("<command line>", "--jobs", "must be at least 1")),
-                Some(j) => j,
-                None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-            };
-            let cfg = pushpack::bench::BenchConfig {
-                instances,
-                planners: pushpack::bench::spec::PlannerSpec::parse_list(&planners, "--planners")?,
-                time_limit,
-                hard_limit,
-                jobs,
-                out,
-                shard: shard.as_deref().map(pushpack::bench::Shard::parse).transpose()?,
-                resume,
-                max_runs,
-                exe: std::env::current_exe().map_err(|e| Error::Io {
-                    path: PathBuf::from("<current executable>"),
-                    source: e,
-                })?,
-            };
-            let s = pushpack::bench::run_batch(&cfg)?;
-            println!(
-                "bench: {} runs in this shard, {} already done, {} run now ({} failed, {} stopped by a time or node limit), {} left; results in {}",
-                s.total,
-                s.already_done,
-                s.ran,
-                s.failed,
-                s.stopped,
-                s.left,
-                s.results.display()
-            );
-            Ok(EXIT_OK)
-        }
+        cmd @ Cmd::Bench { .. } => cmd_bench(cmd),
         Cmd::BenchRun {
             instance,
             planner,
@@ -619,6 +435,215 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             Ok(EXIT_OK)
         }
     }
+}
+
+/// `pushpack bench`.
+fn cmd_bench(cmd: Cmd) -> Result<i32, Error> {
+    let Cmd::Bench {
+        instances,
+        planners,
+        time_limit,
+        hard_limit,
+        jobs,
+        out,
+        shard,
+        resume,
+        max_runs,
+    } = cmd
+    else {
+        unreachable!("run dispatches only Cmd::Bench here")
+    };
+    let time_limit = positive_time(Some(time_limit), "--time-limit")?.unwrap_or(time_limit);
+    let hard_limit = match positive_time(hard_limit, "--hard-limit")? {
+        Some(h) => h,
+        None => 2.0 * time_limit + 30.0,
+    };
+    let jobs = match jobs {
+        Some(0) => return Err(Error::input("<command line>", "--jobs", "must be at least 1")),
+        Some(j) => j,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let cfg = pushpack::bench::BenchConfig {
+        instances,
+        planners: pushpack::bench::spec::PlannerSpec::parse_list(&planners, "--planners")?,
+        time_limit,
+        hard_limit,
+        jobs,
+        out,
+        shard: shard.as_deref().map(pushpack::bench::Shard::parse).transpose()?,
+        resume,
+        max_runs,
+        exe: std::env::current_exe().map_err(|e| Error::Io {
+            path: PathBuf::from("<current executable>"),
+            source: e,
+        })?,
+    };
+    let s = pushpack::bench::run_batch(&cfg)?;
+    println!(
+        "bench: {} runs in this shard, {} already done, {} run now ({} failed, {} stopped by a time or node limit), {} left; results in {}",
+        s.total,
+        s.already_done,
+        s.ran,
+        s.failed,
+        s.stopped,
+        s.left,
+        s.results.display()
+    );
+    Ok(EXIT_OK)
+}
+
+/// `pushpack plan`.
+fn cmd_plan(
+    instance: PathBuf,
+    out: PathBuf,
+    opts: PlanArgs,
+    no_render: bool,
+    compare_ablations: bool,
+) -> Result<i32, Error> {
+    let inst = Instance::load(&instance)?;
+    let o = opts.options(&inst)?;
+    if compare_ablations {
+        print_ablations(&inst, &o)?;
+    }
+    std::fs::create_dir_all(&out).map_err(|e| Error::Io {
+        path: out.clone(),
+        source: e,
+    })?;
+    let cancel = progress::cancel_on_ctrl_c();
+    let mut bar = progress::Progress::new();
+    let (placed, result) = optimize_stages(&inst, &o, &cancel, &mut bar);
+    bar.finish();
+    let outcome = match (placed, result) {
+        (_, Ok(x)) => x,
+        (None, Err(e)) => return Err(e),
+        (Some(placed), Err(e)) => {
+            if let Some(status) = e.status() {
+                eprintln!("status     {status}: no plan ({e})");
+            }
+            // No plan.json without a sequence, but the placement was found and is the
+            // first thing a user looks at to see why: write it and say where.
+            let path = out.join("placement.json");
+            let json = serde_json::to_string_pretty(&placed).expect("serialisable");
+            std::fs::write(&path, json + "\n").map_err(|e| Error::Io {
+                path: path.clone(),
+                source: e,
+            })?;
+            eprintln!("wrote      {} (the placement; no sequence was found)", path.display());
+            if !no_render {
+                let svg = render_placement(&inst, &placed, &out)?;
+                eprintln!("wrote      {}", svg.display());
+            }
+            if matches!(e, Error::Infeasible { .. }) && o.placement_alternatives == 0 {
+                eprintln!(
+                    "hint       --placement-alternatives N tries the next N Bottom-Left placements when one is proven to have no plan"
+                );
+            }
+            for stale in ["plan.json", "storyboard.svg", "swept.svg"] {
+                if out.join(stale).exists() {
+                    eprintln!(
+                        "note       {} is from an earlier run, not this one",
+                        out.join(stale).display()
+                    );
+                }
+            }
+            return Err(e);
+        }
+    };
+    let path = out.join("plan.json");
+    outcome.plan.save(&path)?;
+    print_summary(&inst, &outcome);
+    let report = verify(&inst, &outcome.plan);
+    if let Some(t) = outcome.plan.robot_time_s() {
+        println!("robot time {t:.1} s (both arms in turn, joint trajectories included)");
+    }
+    if report.is_executable() {
+        println!("verify     valid (packing and joint trajectories): the robot can run it");
+    } else if report.is_valid() {
+        println!(
+            "verify     valid as a packing-only plan, not executable ({} robot issue(s))",
+            report.robot_issues.len()
+        );
+        for v in &report.robot_issues {
+            println!("  {v}");
+        }
+    } else {
+        println!("verify     {report}");
+        if !report.robot_issues.is_empty() && report.is_packing_valid() {
+            println!("hint       the packing is valid; --packing-only accepts a plan the robot cannot run");
+        }
+    }
+    println!("wrote      {}", path.display());
+    if !no_render {
+        for f in render(&inst, &outcome.plan, &out)? {
+            println!("wrote      {}", f.display());
+        }
+    }
+    Ok(if report.is_valid() { EXIT_OK } else { EXIT_FAIL })
+}
+
+/// `pushpack place`.
+fn cmd_place(
+    instance: PathBuf,
+    solver: String,
+    seed: Option<u64>,
+    time_limit: Option<f64>,
+    json: bool,
+) -> Result<i32, Error> {
+    let inst = Instance::load(&instance)?;
+    let solver = if solver == "milp" {
+        PlacementSolver::Milp
+    } else {
+        PlacementSolver::Bl
+    };
+    let t = positive_time(time_limit, "--time-limit")?.unwrap_or(inst.settings.time_limit);
+    let (r, report) = pushpack::plan::solve_placement_report(
+        &inst,
+        solver,
+        seed.unwrap_or(inst.settings.seed),
+        inst.settings.bl_orders,
+        t,
+    )?;
+    if json {
+        // The result, plus the objective it optimised (lexicographic: area, then
+        // contact), the gap, and for the exact solver the bound over time.
+        let mut v = serde_json::to_value(&r).expect("serialisable");
+        v["objective"] = serde_json::json!({
+            "occupied_area": r.placement.occupied_area(),
+            "contact_length": r.placement.contact_length(&inst),
+            "order": ["min occupied_area", "max contact_length"],
+        });
+        v["gap"] = serde_json::json!(r.gap());
+        if let Some(rep) = report {
+            v["report"] = serde_json::to_value(&rep).expect("serialisable");
+        }
+        println!("{}", serde_json::to_string_pretty(&v).expect("serialisable"));
+    } else {
+        println!(
+            "placement ({}, {:?}): occupied area {:.6} m², lower bound {:.6} m² (gap {:.2} %), contact length {:.4} m, {} nodes, {} MILPs, {:.3} s",
+            r.solver,
+            r.status,
+            r.placement.occupied_area(),
+            r.lower_bound,
+            100.0 * r.gap(),
+            r.placement.contact_length(&inst),
+            r.nodes,
+            r.subproblems,
+            r.time_s
+        );
+        for (i, t) in r.placement.targets.iter().enumerate() {
+            println!(
+                "  {:>6}  {:>4}  x {:.4}  y {:.4}  {:.4} x {:.4} x {:.4}",
+                inst.objects[i].id,
+                t.orientation.label(),
+                t.rect.x0,
+                t.rect.y0,
+                t.rect.width(),
+                t.rect.depth(),
+                t.height
+            );
+        }
+    }
+    Ok(EXIT_OK)
 }
 
 /// Load a plan and its instance (the one given, else the one the plan records).
