@@ -149,6 +149,11 @@ pub(super) fn resolve_model(c: &Check, rel: &str, base_dir: Option<&Path>) -> Re
     })
 }
 
+/// Validate an instance file into an [`Instance`]. The robot, planner and table-pose checks are
+/// functions of their own; the container, friction, gripper, kinds and objects sections stay
+/// inline for now (about 250 lines). They are straight runs of field checks in file order,
+/// so the first bad field in the file is the one an error names, and later sections read
+/// the values of earlier ones.
 pub(super) fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, digest: String) -> Result<Instance> {
     let c = Check { file: source };
     if f.format_version != 1 {
@@ -239,117 +244,10 @@ pub(super) fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, d
         Some(v) => l(c.finite("container.floor_z", v)?),
         None => table_z,
     };
-    let (model, model_path) = match &r.model {
-        None => (RobotModel::bundled(), "<bundled>".to_string()),
-        Some(rel) => {
-            let path = resolve_model(&c, rel, base_dir)?;
-            let text =
-                std::fs::read_to_string(&path).map_err(|e| c.err("robot.model", format!("{}: {e}", path.display())))?;
-            let m = RobotModel::from_urdf_str(&text)
-                .map_err(|e| c.err("robot.model", format!("{}: {e}", path.display())))?;
-            (m, path.display().to_string())
-        }
-    };
-    let tcp_offset = match r.tcp_offset {
-        Some(t) => {
-            for (i, v) in t.iter().enumerate() {
-                c.finite(&format!("robot.tcp_offset[{i}]"), *v)?;
-            }
-            t.map(l)
-        }
-        None => crate::robot::DEFAULT_TCP_OFFSET,
-    };
-    let arms = match &r.arms {
-        None => vec![Arm::Left, Arm::Right],
-        Some(list) => {
-            let mut arms = Vec::new();
-            for (i, a) in list.iter().enumerate() {
-                let arm = match a.as_str() {
-                    "left" => Arm::Left,
-                    "right" => Arm::Right,
-                    other => {
-                        return Err(c.err(
-                            format!("robot.arms[{i}]"),
-                            format!("must be \"left\" or \"right\", got {other:?}"),
-                        ))
-                    }
-                };
-                if !arms.contains(&arm) {
-                    arms.push(arm);
-                }
-            }
-            if arms.is_empty() {
-                return Err(c.err("robot.arms", "at least one arm is needed"));
-            }
-            arms
-        }
-    };
-    let home = match &r.home {
-        None => NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians)),
-        Some(h) => {
-            for (name, q) in [("left", &h.left), ("right", &h.right)] {
-                for (i, v) in q.iter().enumerate() {
-                    c.finite(&format!("robot.home.{name}[{i}]"), *v)?;
-                }
-            }
-            [h.left, h.right]
-        }
-    };
-    for arm in [Arm::Left, Arm::Right] {
-        if let Err(e) = model.check_joint_limits(arm, &home[arm.index()]) {
-            return Err(c.err(format!("robot.home.{}", arm.name()), e));
-        }
-    }
-    let transfer_clearance = match r.transfer_clearance {
-        Some(v) => l(c.non_negative("robot.transfer_clearance", v)?),
-        None => 0.08,
-    };
-    let robot = RobotCell {
-        model,
-        model_path,
-        tcp_offset,
-        arms,
-        home,
-        table_z,
-        transfer_clearance,
-        regrasp: r.regrasp.unwrap_or(false),
-    };
+    let robot = robot_cell(&c, r, scale, base_dir, table_z)?;
 
     // Planner settings.
-    let p = &f.planner;
-    let d = Settings::default();
-    let settings = Settings {
-        seed: p.seed.unwrap_or(d.seed),
-        bl_orders: match p.bl_orders {
-            Some(0) => return Err(c.err("planner.bl_orders", "must be >= 1")),
-            Some(v) => v,
-            None => d.bl_orders,
-        },
-        time_limit: match p.time_limit {
-            Some(v) => {
-                let v = c.positive("planner.time_limit", v)?;
-                if v > MAX_TIME_LIMIT {
-                    return Err(c.err(
-                        "planner.time_limit",
-                        format!("must be at most {MAX_TIME_LIMIT:e} s, got {v:e} s"),
-                    ));
-                }
-                v
-            }
-            None => d.time_limit,
-        },
-        max_nodes: match p.max_nodes {
-            Some(0) => return Err(c.err("planner.max_nodes", "must be >= 1")),
-            Some(v) => v,
-            None => d.max_nodes,
-        },
-        min_push_margin: match p.min_push_margin {
-            Some(v) => l(c.non_negative("planner.min_push_margin", v)?),
-            None => d.min_push_margin,
-        },
-        no_direct: p.no_direct.unwrap_or(false),
-        no_multi_push: p.no_multi_push.unwrap_or(false),
-    };
+    let settings = planner_settings(&c, &f.planner, scale)?;
 
     // Kinds.
     if f.kinds.is_empty() {
@@ -493,7 +391,76 @@ pub(super) fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, d
             format!("total footprint area {min_area_sum:.5} m² exceeds the container floor {floor_area:.5} m²"),
         ));
     }
-    // Table poses: no overlap with each other or with the container, and reachable.
+    check_table_poses(&c, &objects, &container, &gripper, &robot, table_z)?;
+    let name = f.name.clone().unwrap_or_else(|| {
+        Path::new(source)
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("instance")
+            .to_string()
+    });
+    Ok(Instance {
+        name,
+        source: source.to_string(),
+        digest,
+        container,
+        kinds,
+        objects,
+        gripper,
+        robot,
+        settings,
+        file: f,
+    })
+}
+
+/// The `[planner]` table, with the documented defaults.
+fn planner_settings(c: &Check, p: &super::file::PlannerFile, scale: f64) -> Result<Settings> {
+    let l = |v: f64| v * scale;
+    let d = Settings::default();
+    Ok(Settings {
+        seed: p.seed.unwrap_or(d.seed),
+        bl_orders: match p.bl_orders {
+            Some(0) => return Err(c.err("planner.bl_orders", "must be >= 1")),
+            Some(v) => v,
+            None => d.bl_orders,
+        },
+        time_limit: match p.time_limit {
+            Some(v) => {
+                let v = c.positive("planner.time_limit", v)?;
+                if v > MAX_TIME_LIMIT {
+                    return Err(c.err(
+                        "planner.time_limit",
+                        format!("must be at most {MAX_TIME_LIMIT:e} s, got {v:e} s"),
+                    ));
+                }
+                v
+            }
+            None => d.time_limit,
+        },
+        max_nodes: match p.max_nodes {
+            Some(0) => return Err(c.err("planner.max_nodes", "must be >= 1")),
+            Some(v) => v,
+            None => d.max_nodes,
+        },
+        min_push_margin: match p.min_push_margin {
+            Some(v) => l(c.non_negative("planner.min_push_margin", v)?),
+            None => d.min_push_margin,
+        },
+        no_direct: p.no_direct.unwrap_or(false),
+        no_multi_push: p.no_multi_push.unwrap_or(false),
+    })
+}
+
+/// Table poses: no overlap with each other or with the container, tall enough to grasp, clear of
+/// the hands at home, and reachable by an allowed arm.
+fn check_table_poses(
+    c: &Check,
+    objects: &[Object],
+    container: &Container,
+    gripper: &Gripper,
+    robot: &RobotCell,
+    table_z: f64,
+) -> Result<()> {
     let walls = container.outer_corners_world();
     for i in 0..objects.len() {
         let (fi, hi) = objects[i].table_footprint();
@@ -563,23 +530,91 @@ pub(super) fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, d
             ));
         }
     }
-    let name = f.name.clone().unwrap_or_else(|| {
-        Path::new(source)
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("instance")
-            .to_string()
-    });
-    Ok(Instance {
-        name,
-        source: source.to_string(),
-        digest,
-        container,
-        kinds,
-        objects,
-        gripper,
-        robot,
-        settings,
-        file: f,
+    Ok(())
+}
+
+/// The `[robot]` table: the model (bundled or a URDF file), TCP, arms, home pose and clearances.
+fn robot_cell(
+    c: &Check,
+    r: &super::file::RobotFile,
+    scale: f64,
+    base_dir: Option<&Path>,
+    table_z: f64,
+) -> Result<RobotCell> {
+    let l = |v: f64| v * scale;
+    let (model, model_path) = match &r.model {
+        None => (RobotModel::bundled(), "<bundled>".to_string()),
+        Some(rel) => {
+            let path = resolve_model(c, rel, base_dir)?;
+            let text =
+                std::fs::read_to_string(&path).map_err(|e| c.err("robot.model", format!("{}: {e}", path.display())))?;
+            let m = RobotModel::from_urdf_str(&text)
+                .map_err(|e| c.err("robot.model", format!("{}: {e}", path.display())))?;
+            (m, path.display().to_string())
+        }
+    };
+    let tcp_offset = match r.tcp_offset {
+        Some(t) => {
+            for (i, v) in t.iter().enumerate() {
+                c.finite(&format!("robot.tcp_offset[{i}]"), *v)?;
+            }
+            t.map(l)
+        }
+        None => crate::robot::DEFAULT_TCP_OFFSET,
+    };
+    let arms = match &r.arms {
+        None => vec![Arm::Left, Arm::Right],
+        Some(list) => {
+            let mut arms = Vec::new();
+            for (i, a) in list.iter().enumerate() {
+                let arm = match a.as_str() {
+                    "left" => Arm::Left,
+                    "right" => Arm::Right,
+                    other => {
+                        return Err(c.err(
+                            format!("robot.arms[{i}]"),
+                            format!("must be \"left\" or \"right\", got {other:?}"),
+                        ))
+                    }
+                };
+                if !arms.contains(&arm) {
+                    arms.push(arm);
+                }
+            }
+            if arms.is_empty() {
+                return Err(c.err("robot.arms", "at least one arm is needed"));
+            }
+            arms
+        }
+    };
+    let home = match &r.home {
+        None => NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians)),
+        Some(h) => {
+            for (name, q) in [("left", &h.left), ("right", &h.right)] {
+                for (i, v) in q.iter().enumerate() {
+                    c.finite(&format!("robot.home.{name}[{i}]"), *v)?;
+                }
+            }
+            [h.left, h.right]
+        }
+    };
+    for arm in [Arm::Left, Arm::Right] {
+        if let Err(e) = model.check_joint_limits(arm, &home[arm.index()]) {
+            return Err(c.err(format!("robot.home.{}", arm.name()), e));
+        }
+    }
+    let transfer_clearance = match r.transfer_clearance {
+        Some(v) => l(c.non_negative("robot.transfer_clearance", v)?),
+        None => 0.08,
+    };
+    Ok(RobotCell {
+        model,
+        model_path,
+        tcp_offset,
+        arms,
+        home,
+        table_z,
+        transfer_clearance,
+        regrasp: r.regrasp.unwrap_or(false),
     })
 }
