@@ -2,16 +2,8 @@
 //!
 //! A solver that stops early is *not* an error: it returns a result whose status says so.
 
-use crate::status::Status;
+use crate::status::{Limit, Status};
 use std::path::PathBuf;
-
-/// `Error::Stopped::limit` of a stop by the clock.
-pub const TIME_LIMIT: &str = "time limit";
-/// `Error::Stopped::limit` of a stop by the node count.
-pub const NODE_LIMIT: &str = "node limit";
-/// `Error::Stopped::limit` of the paper sequencer's Algorithm 1 stopped by its memory cap
-/// (`sequence::paper::MAX_CANDIDATES`).
-pub const CANDIDATE_LIMIT: &str = "candidate limit";
 
 /// Everything that can go wrong in pushpack.
 #[derive(Debug, thiserror::Error)]
@@ -44,8 +36,8 @@ pub enum Error {
     Stopped {
         /// The stage that stopped (`"sequence (astar)"`, `"sequence (paper)"`).
         stage: String,
-        /// [`TIME_LIMIT`], [`NODE_LIMIT`] or [`CANDIDATE_LIMIT`].
-        limit: String,
+        /// What stopped it.
+        limit: Limit,
         /// Nodes expanded before the stop.
         nodes: u64,
         /// Seconds spent in the stage.
@@ -86,8 +78,7 @@ impl Error {
     pub fn status(&self) -> Option<Status> {
         match self {
             Error::Infeasible { .. } => Some(Status::Infeasible),
-            Error::Stopped { limit, .. } if limit == TIME_LIMIT => Some(Status::TimeLimit),
-            Error::Stopped { .. } => Some(Status::NodeLimit),
+            Error::Stopped { limit, .. } => Some(limit.without_solution()),
             _ => None,
         }
     }

@@ -105,10 +105,24 @@ impl fmt::Display for Status {
 pub enum Limit {
     /// The time limit.
     Time,
-    /// A node or candidate cap.
+    /// A node cap.
     Nodes,
+    /// The paper sequencer's cap on the candidates of Algorithm 1, which it holds in memory
+    /// (`sequence::paper::MAX_CANDIDATES`).
+    Candidates,
     /// The caller's cancel flag.
     Cancel,
+}
+
+impl std::fmt::Display for Limit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Limit::Time => "time limit",
+            Limit::Nodes => "node limit",
+            Limit::Candidates => "candidate limit",
+            Limit::Cancel => "cancel flag",
+        })
+    }
 }
 
 impl Limit {
@@ -116,7 +130,7 @@ impl Limit {
     pub fn without_solution(self) -> Status {
         match self {
             Limit::Time => Status::TimeLimit,
-            Limit::Nodes => Status::NodeLimit,
+            Limit::Nodes | Limit::Candidates => Status::NodeLimit,
             Limit::Cancel => Status::Cancelled,
         }
     }

@@ -119,7 +119,7 @@ fn paper_sequencer_stops_in_algorithm_1_and_says_so() {
             stage, limit, nodes, ..
         }) => {
             assert!(stage.contains("Algorithm 1"), "stopped in {stage}");
-            assert_eq!(limit, "time limit");
+            assert_eq!(limit, pushpack::status::Limit::Time);
             assert_eq!(nodes, 0);
         }
         Err(e) => panic!("expected Error::Stopped, got {e}"),

@@ -338,9 +338,7 @@ impl ResultRow {
             }
             RunStatus::LegacyFailed => RunStatus::Error,
             RunStatus::LegacyTimeout if error.starts_with("killed after") => RunStatus::Killed,
-            RunStatus::LegacyTimeout if error.contains(&format!("stopped by its {}", crate::error::NODE_LIMIT)) => {
-                RunStatus::NodeLimit
-            }
+            RunStatus::LegacyTimeout if error.contains("stopped by its node limit") => RunStatus::NodeLimit,
             RunStatus::LegacyTimeout => RunStatus::TimeLimit,
             s => s,
         };

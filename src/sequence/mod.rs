@@ -38,10 +38,9 @@ impl SearchStatus {
         crate::error::Error::Stopped {
             stage: stage.into(),
             limit: match self {
-                SearchStatus::NodeLimit => crate::error::NODE_LIMIT,
-                _ => crate::error::TIME_LIMIT,
-            }
-            .into(),
+                SearchStatus::NodeLimit => crate::status::Limit::Nodes,
+                _ => crate::status::Limit::Time,
+            },
             nodes,
             elapsed_s,
             min_actions,

@@ -470,7 +470,7 @@ pub fn solve(
         CandidatesStop::Time => SearchStatus::TimeLimit.no_plan(stage, 0, start.elapsed().as_secs_f64(), None),
         CandidatesStop::Candidates => Error::Stopped {
             stage: stage.into(),
-            limit: crate::error::CANDIDATE_LIMIT.into(),
+            limit: crate::status::Limit::Candidates,
             nodes: 0,
             elapsed_s: start.elapsed().as_secs_f64(),
             min_actions: None,

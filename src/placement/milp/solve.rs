@@ -110,7 +110,7 @@ pub fn solve_report(
     let Some(mut best) = area.best.clone() else {
         return Err(Error::Stopped {
             stage: "placement (milp)".into(),
-            limit: crate::error::TIME_LIMIT.into(),
+            limit: crate::status::Limit::Time,
             nodes: area.nodes,
             elapsed_s: area_stage_s,
             min_actions: None,
