@@ -7,11 +7,14 @@
 //!
 //! ```sh
 //! cargo bench --bench placement_squares -- [--from 1] [--to 22] [--time-limit 60] [--repeat 3] [--tight]
+//! # the area stage's two masters side by side (combinatorial x-phase, HiGHS MILP)
+//! cargo bench --bench placement_squares -- --to 12 --masters search,highs
 //! ```
 
 use pushpack::control::TimeLimit;
 use pushpack::instance::generate::consecutive_squares_toml;
 use pushpack::instance::Instance;
+use pushpack::placement::milp::AreaMaster;
 use pushpack::placement::{milp, PlacementResult, PlacementStatus};
 
 #[allow(dead_code)] // shared helpers: this bench uses two of them
@@ -30,54 +33,65 @@ fn main() {
     let limit: f64 = arg(&args, "--time-limit", 60.0);
     let repeat: usize = arg(&args, "--repeat", 3);
     let tight = args.iter().any(|a| a == "--tight");
-    println!("| N | A038666 | area found | area proven | contact proven | area stage (s, median) | contact stage (s, median) | boxes (searched) |");
-    println!("|---|---|---|---|---|---|---|---|");
+    let masters: Vec<AreaMaster> = arg(&args, "--masters", "search".to_string())
+        .split(',')
+        .map(|m| match m {
+            "search" => AreaMaster::Search,
+            "highs" => AreaMaster::Highs,
+            _ => panic!("--masters: search or highs"),
+        })
+        .collect();
+    println!("| N | master | A038666 | area found | area proven | contact proven | area stage (s, median) | contact stage (s, median) | boxes (searched) |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for n in from..=to.min(22) {
         let want = A038666[n as usize - 1];
         // The tight container: the optimal box, found by the unconstrained run.
         let mut text = consecutive_squares_toml(n, None);
         if tight {
             let inst = Instance::parse(&text, false, "<bench>", None).expect("valid");
-            let r = run(&inst, limit).0;
+            let r = run(&inst, limit, AreaMaster::Search).0;
             let (w, d) = r.placement.extent();
             text = consecutive_squares_toml(n, Some(((w / 0.002).round() as u32, (d / 0.002).round() as u32)));
         }
         let inst = Instance::parse(&text, false, "<bench>", None).expect("valid");
-        let mut area_s = Vec::new();
-        let mut contact_s = Vec::new();
-        let mut last = None;
-        for _ in 0..repeat {
-            let (r, rep) = run(&inst, limit);
-            assert!(r.placement.violations(&inst).is_empty(), "N={n}: invalid placement");
-            area_s.push(rep.area_stage_s);
-            contact_s.push(rep.contact_stage_s);
-            last = Some((r, rep));
+        for &master in &masters {
+            let mut area_s = Vec::new();
+            let mut contact_s = Vec::new();
+            let mut last = None;
+            for _ in 0..repeat {
+                let (r, rep) = run(&inst, limit, master);
+                assert!(r.placement.violations(&inst).is_empty(), "N={n}: invalid placement");
+                area_s.push(rep.area_stage_s);
+                contact_s.push(rep.contact_stage_s);
+                last = Some((r, rep));
+            }
+            let (r, rep) = last.expect("repeat ≥ 1");
+            let units = (r.placement.occupied_area() / 4e-6).round() as u32;
+            println!(
+                "| {n} | {master:?} | {want} | {units}{} | {} | {} | {:.3} | {:.3} | {} ({}) |",
+                if units == want { "" } else { " (differs)" },
+                if rep.area_optimal { "yes" } else { "no" },
+                if r.status == PlacementStatus::Optimal {
+                    "yes"
+                } else {
+                    "no"
+                },
+                median(&area_s),
+                median(&contact_s),
+                rep.boxes,
+                rep.boxes_searched
+            );
         }
-        let (r, rep) = last.expect("repeat ≥ 1");
-        let units = (r.placement.occupied_area() / 4e-6).round() as u32;
-        println!(
-            "| {n} | {want} | {units}{} | {} | {} | {:.3} | {:.3} | {} ({}) |",
-            if units == want { "" } else { " (differs)" },
-            if rep.area_optimal { "yes" } else { "no" },
-            if r.status == PlacementStatus::Optimal {
-                "yes"
-            } else {
-                "no"
-            },
-            median(&area_s),
-            median(&contact_s),
-            rep.boxes,
-            rep.boxes_searched
-        );
     }
 }
 
-fn run(inst: &Instance, limit: f64) -> (PlacementResult, milp::MilpReport) {
+fn run(inst: &Instance, limit: f64, area_master: AreaMaster) -> (PlacementResult, milp::MilpReport) {
     let none = PlacementResult::empty("none", 0.0);
     let s = milp::MilpSettings {
         time_limit: limit,
         contact_stage: true,
         seed: 1,
+        area_master,
         ..Default::default()
     };
     milp::solve_report(inst, &none, &s, &TimeLimit::new(limit)).expect("squares always fit the loose container")

@@ -91,6 +91,32 @@ fn infeasible_container_is_proven() {
     }
 }
 
+/// The area stage with the HiGHS master (Benders decomposition) reaches the same optima, finds
+/// the tight packing without a warm start, and proves the 13 × 16 box infeasible.
+#[test]
+fn highs_master_reaches_the_same_optima_and_proofs() {
+    let highs = milp::MilpSettings {
+        area_master: milp::AreaMaster::Highs,
+        ..settings()
+    };
+    for (n, want) in [(5u32, 60.0), (7, 154.0), (8, 210.0)] {
+        let inst = Instance::parse(&consecutive_squares_toml(n, None), false, "<squares>", None).unwrap();
+        let r = milp::solve(&inst, &no_warm(), &highs, &TimeLimit::new(120.0)).unwrap();
+        assert!(r.placement.violations(&inst).is_empty(), "n = {n}");
+        assert_eq!(r.status, PlacementStatus::Optimal, "n = {n}");
+        assert!((units(r.placement.occupied_area()) - want).abs() < 1e-6, "n = {n}");
+    }
+    let tight = Instance::parse(&consecutive_squares_toml(8, Some((14, 15))), false, "<squares>", None).unwrap();
+    let r = milp::solve(&tight, &no_warm(), &highs, &TimeLimit::new(120.0)).unwrap();
+    assert!(r.placement.violations(&tight).is_empty());
+    assert!((units(r.placement.occupied_area()) - 210.0).abs() < 1e-6);
+    let too_small = Instance::parse(&consecutive_squares_toml(8, Some((13, 16))), false, "<squares>", None).unwrap();
+    assert!(matches!(
+        milp::solve(&too_small, &no_warm(), &highs, &TimeLimit::new(120.0)),
+        Err(Error::Infeasible { .. })
+    ));
+}
+
 /// Stopped at once: a placement (the warm start's) and a valid bound, not an error.
 #[test]
 fn stopped_search_reports_incumbent_and_bound() {

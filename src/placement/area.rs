@@ -19,8 +19,20 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::time::Instant;
 
-/// Footprints of one object: (x- and y-extent, an orientation giving it, height).
-pub type Footprints = Vec<([f64; 2], Orientation, f64)>;
+/// One way an object can stand: the extents of its footprint, an orientation giving them, and
+/// its height then.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Footprint {
+    /// x- and y-extent.
+    pub size: [f64; 2],
+    /// An orientation with this footprint.
+    pub orientation: Orientation,
+    /// Height in that orientation.
+    pub height: f64,
+}
+
+/// The distinct footprints of one object.
+pub type Footprints = Vec<Footprint>;
 
 /// One point of the bound-over-time trace.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -81,14 +93,19 @@ pub fn subset_sums(vals: &[Vec<f64>], limit: f64) -> Vec<f64> {
 /// Items for the search, largest first (the search places in index order), with the map back.
 fn items(fps: &[Footprints]) -> (Vec<Item>, Vec<usize>) {
     let mut order: Vec<usize> = (0..fps.len()).collect();
-    let big = |i: usize| fps[i].iter().map(|(f, _, _)| f[0] * f[1]).fold(0.0, f64::max);
+    let big = |i: usize| {
+        fps[i]
+            .iter()
+            .map(|Footprint { size: f, .. }| f[0] * f[1])
+            .fold(0.0, f64::max)
+    };
     order.sort_by(|&a, &b| big(b).total_cmp(&big(a)).then(a.cmp(&b)));
     let same = |a: usize, b: usize| {
         fps[a].len() == fps[b].len()
-            && fps[a].iter().all(|(f, _, _)| {
+            && fps[a].iter().all(|Footprint { size: f, .. }| {
                 fps[b]
                     .iter()
-                    .any(|(g, _, _)| (f[0] - g[0]).abs() <= EPS && (f[1] - g[1]).abs() <= EPS)
+                    .any(|Footprint { size: g, .. }| (f[0] - g[0]).abs() <= EPS && (f[1] - g[1]).abs() <= EPS)
             })
     };
     let mut class: Vec<usize> = Vec::new();
@@ -100,7 +117,7 @@ fn items(fps: &[Footprints]) -> (Vec<Item>, Vec<usize>) {
         .iter()
         .zip(&class)
         .map(|(&i, &c)| Item {
-            opts: fps[i].iter().map(|(f, _, _)| *f).collect(),
+            opts: fps[i].iter().map(|Footprint { size: f, .. }| *f).collect(),
             class: c,
         })
         .collect();
@@ -118,18 +135,33 @@ fn swapped(items: &[Item]) -> Vec<Item> {
         .collect()
 }
 
+/// Decides one box `w × d` for the items: the outcome and the nodes visited. A solver failure is
+/// an error, never a refutation.
+pub type Decider<'a> = dyn Fn(&[Item], f64, f64, &dyn Fn() -> bool) -> crate::error::Result<(Outcome, u64)> + 'a;
+
+/// The exact packing search of [`opp`] as a [`Decider`].
+pub fn by_search(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> crate::error::Result<(Outcome, u64)> {
+    let mut s = Search::new(items, w, d, stop);
+    let r = s.run();
+    Ok((r, s.nodes))
+}
+
 /// Decide `w × d` with the x-phase along the longer side: a packing transposes with its box, and
 /// the cumulative relaxation prunes more along the long side (measured: squares 1…16, 27 boxes
 /// and 12.8 s with the short side first, docs/benchmarks.md). Returns the outcome and nodes.
-fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outcome, u64) {
+fn decide(
+    decider: &Decider,
+    items: &[Item],
+    w: f64,
+    d: f64,
+    stop: &dyn Fn() -> bool,
+) -> crate::error::Result<(Outcome, u64)> {
     if w >= d {
-        let mut s = Search::new(items, w, d, stop);
-        let r = s.run();
-        return (r, s.nodes);
+        return decider(items, w, d, stop);
     }
     let t = swapped(items);
-    let mut s = Search::new(&t, d, w, stop);
-    let r = match s.run() {
+    let (r, nodes) = decider(&t, d, w, stop)?;
+    let r = match r {
         Outcome::Packed(pos) => Outcome::Packed(
             pos.into_iter()
                 .map(|p| opp::Pos {
@@ -141,7 +173,7 @@ fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outcome, 
         ),
         o => o,
     };
-    (r, s.nodes)
+    Ok((r, nodes))
 }
 
 /// The targets of a search result: `pos[k]` places object `order[k]`.
@@ -149,7 +181,11 @@ fn targets_of(fps: &[Footprints], order: &[usize], pos: impl Iterator<Item = opp
     let mut targets = vec![None; fps.len()];
     for (k, p) in pos.enumerate() {
         let i = order[k];
-        let (f, q, h) = fps[i][p.opt];
+        let Footprint {
+            size: f,
+            orientation: q,
+            height: h,
+        } = fps[i][p.opt];
         targets[i] = Some(Target {
             orientation: q,
             rect: Rect::new(p.x, p.y, f[0], f[1]),
@@ -176,12 +212,18 @@ pub fn transpose(p: &Placement, fps: &[Footprints]) -> Option<Placement> {
         .map(|(t, opts)| {
             let (w, d) = (t.rect.width(), t.rect.depth());
             opts.iter()
-                .find(|(f, _, _)| (f[0] - d).abs() <= EPS && (f[1] - w).abs() <= EPS)
-                .map(|(f, q, h)| Target {
-                    orientation: *q,
-                    rect: Rect::new(t.rect.y0, t.rect.x0, f[0], f[1]),
-                    height: *h,
-                })
+                .find(|Footprint { size: f, .. }| (f[0] - d).abs() <= EPS && (f[1] - w).abs() <= EPS)
+                .map(
+                    |&Footprint {
+                         size: f,
+                         orientation: q,
+                         height: h,
+                     }| Target {
+                        orientation: q,
+                        rect: Rect::new(t.rect.y0, t.rect.x0, f[0], f[1]),
+                        height: h,
+                    },
+                )
         })
         .collect::<Option<Vec<_>>>()?;
     Some(Placement { targets })
@@ -210,28 +252,50 @@ impl Ord for BoxKey {
     }
 }
 
-/// Run the area stage. `warm`: a placement to start from (ignored unless valid); `contact`:
-/// also decide the boxes tied with the best area; `stop`: polled between and inside searches.
+/// How the area stage runs.
+pub struct AreaOptions<'a> {
+    /// Also decide the boxes tied with the best area (the contact stage needs them).
+    pub contact: bool,
+    /// When the placement started (the trace's time origin).
+    pub start: Instant,
+    /// Seconds the search for a first packing may take when there is no valid warm start.
+    pub budget_first_s: f64,
+    /// What decides each box.
+    pub decider: &'a Decider<'a>,
+}
+
+/// Run the area stage. `warm`: a placement to start from (ignored unless valid); `stop`: polled
+/// between and inside searches.
 pub fn solve(
     inst: &Instance,
     fps: &[Footprints],
     warm: Option<&Placement>,
-    contact: bool,
-    start: Instant,
-    budget_first: f64,
+    opts: &AreaOptions,
     stop: &dyn Fn() -> bool,
-) -> AreaStage {
+) -> crate::error::Result<AreaStage> {
+    let AreaOptions {
+        contact,
+        start,
+        budget_first_s: budget_first,
+        decider,
+    } = *opts;
     let (cw, cd) = (inst.container.width, inst.container.depth);
     let (items, order) = items(fps);
-    let xv: Vec<Vec<f64>> = fps.iter().map(|o| o.iter().map(|(f, _, _)| f[0]).collect()).collect();
-    let yv: Vec<Vec<f64>> = fps.iter().map(|o| o.iter().map(|(f, _, _)| f[1]).collect()).collect();
+    let xv: Vec<Vec<f64>> = fps
+        .iter()
+        .map(|o| o.iter().map(|Footprint { size: f, .. }| f[0]).collect())
+        .collect();
+    let yv: Vec<Vec<f64>> = fps
+        .iter()
+        .map(|o| o.iter().map(|Footprint { size: f, .. }| f[1]).collect())
+        .collect();
     let widths: Vec<f64> = subset_sums(&xv, cw).into_iter().filter(|&v| v > EPS).collect();
     let depths: Vec<f64> = subset_sums(&yv, cd).into_iter().filter(|&v| v > EPS).collect();
     let area_tol = 1e-9 * (1.0 + cw * cd);
     let transposable = fps.iter().all(|o| {
-        o.iter().all(|(f, _, _)| {
+        o.iter().all(|Footprint { size: f, .. }| {
             o.iter()
-                .any(|(g, _, _)| (g[0] - f[1]).abs() <= EPS && (g[1] - f[0]).abs() <= EPS)
+                .any(|Footprint { size: g, .. }| (g[0] - f[1]).abs() <= EPS && (g[1] - f[0]).abs() <= EPS)
         })
     });
     let mut out = AreaStage {
@@ -261,7 +325,7 @@ pub fn solve(
     if best.is_none() {
         let t0 = elapsed();
         let first_stop = || stop() || elapsed() - t0 > budget_first;
-        let (res, nodes) = decide(&items, cw, cd, &first_stop);
+        let (res, nodes) = decide(decider, &items, cw, cd, &first_stop)?;
         out.nodes += nodes;
         out.boxes += 1;
         out.boxes_searched += 1;
@@ -270,7 +334,7 @@ pub fn solve(
             Outcome::Infeasible => {
                 out.infeasible = true;
                 out.lower_bound = f64::INFINITY;
-                return out;
+                return Ok(out);
             }
             Outcome::Stopped => {}
         }
@@ -279,7 +343,11 @@ pub fn solve(
     let mut heap: BinaryHeap<Reverse<BoxKey>> = BinaryHeap::new();
     let sum_area: f64 = fps
         .iter()
-        .map(|o| o.iter().map(|(f, _, _)| f[0] * f[1]).fold(f64::INFINITY, f64::min))
+        .map(|o| {
+            o.iter()
+                .map(|Footprint { size: f, .. }| f[0] * f[1])
+                .fold(f64::INFINITY, f64::min)
+        })
         .sum();
     for &w in &widths {
         let need = sum_area / w - 1e-9 * (1.0 + cd);
@@ -323,7 +391,7 @@ pub fn solve(
             Outcome::Stopped // decided already; nothing to record
         } else {
             out.boxes_searched += 1;
-            let (r, nodes) = decide(&items, w, d, stop);
+            let (r, nodes) = decide(decider, &items, w, d, stop)?;
             out.nodes += nodes;
             r
         };
@@ -387,7 +455,7 @@ pub fn solve(
     let final_lb = out.lower_bound;
     trace(&mut out, final_lb, &best);
     out.best = best;
-    out
+    Ok(out)
 }
 
 /// Second stage by enumeration: the most contact length among the BL-stable packings inside

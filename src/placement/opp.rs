@@ -306,6 +306,33 @@ impl<'a> Search<'a> {
         }
     }
 
+    /// The y-phase alone, for a given x-assignment (per item: footprint index and left edge): a
+    /// packing with exactly these x-coordinates and footprints, or `Infeasible` (none exists),
+    /// or `Stopped`. This is the subproblem of the Benders decomposition
+    /// ([`crate::placement::milp`]'s HiGHS master decides the x-coordinates).
+    pub fn y_for(&mut self, opt: &[usize], x0: &[f64]) -> Outcome {
+        // The mirror rule of `run` pairs with the x-phase's; the master has no such rule.
+        self.anchor = None;
+        self.opt.copy_from_slice(opt);
+        self.x0.copy_from_slice(x0);
+        self.placed.iter_mut().for_each(|p| *p = true);
+        if self.ycheck() {
+            Outcome::Packed(
+                (0..self.items.len())
+                    .map(|i| Pos {
+                        opt: self.opt[i],
+                        x: self.x0[i],
+                        y: self.y0[i],
+                    })
+                    .collect(),
+            )
+        } else if self.stopped {
+            Outcome::Stopped
+        } else {
+            Outcome::Infeasible
+        }
+    }
+
     fn tick(&mut self) -> bool {
         self.nodes += 1;
         if self.nodes & 1023 == 0 && (self.stop)() {
@@ -515,6 +542,46 @@ impl<'a> Search<'a> {
         self.xphase(next, 0, placed_area, rem_area, waste + (next - t) * cap)
     }
 
+    /// Left sides, seen from the y-phase. Enumeration visits only packings where every item
+    /// touches something on its left (the BL-stable ones; the y-phase already rests every item
+    /// on something below). A placed item off the left wall can be touched on its left only by
+    /// items ending at its left edge: placed ones by their overlap in y, unplaced ones only
+    /// above `last_y` (every later item's bottom is at least `last_y`). `None`: some placed
+    /// item can no longer be touched, so no completion is BL-stable. Otherwise, the left
+    /// contact now known to be missing beyond what the x-phase counted (`ldef`, which assumed
+    /// every item ending there in full contact).
+    fn left_contact_lost(&self, done: &[bool], top: &[f64], last_y: f64) -> Option<f64> {
+        let n = self.items.len();
+        let mut lost = 0.0;
+        for k in 0..n {
+            if !done[k] || self.x0[k] <= self.t {
+                continue;
+            }
+            let (y0, y1) = (self.y0[k], top[k]);
+            let (mut xb, mut now, mut later) = (0.0, 0.0, 0.0);
+            for j in 0..n {
+                if (self.x0[j] + self.dims(j)[0] - self.x0[k]).abs() > self.t {
+                    continue;
+                }
+                let dj = self.dims(j)[1];
+                xb += dj;
+                if done[j] {
+                    now += (top[j].min(y1) - self.y0[j].max(y0)).max(0.0);
+                } else {
+                    later += dj;
+                }
+            }
+            let room = (y1 - last_y.max(y0)).max(0.0);
+            let later = later.min(room);
+            if now <= self.t && later <= self.t {
+                return None;
+            }
+            let side = y1 - y0;
+            lost += (xb.min(side) - (now + later).min(side)).max(0.0);
+        }
+        Some(lost)
+    }
+
     /// y-phase for the current x-assignment.
     fn ycheck(&mut self) -> bool {
         self.yleaves += 1;
@@ -555,6 +622,17 @@ impl<'a> Search<'a> {
                 return false;
             }
             return true;
+        }
+        if self.visit.is_some() {
+            let Some(lost) = self.left_contact_lost(done, top, last_y) else {
+                return false;
+            };
+            if let Some(cb) = self.cbound {
+                if self.ub_x - self.ydef - lost <= cb.get() + 1e-9 {
+                    self.cpruned += 1;
+                    return false;
+                }
+            }
         }
         // Each unplaced item sits above every placed item that covers its left edge, under
         // every other unplaced item covering it: they must stack within d.

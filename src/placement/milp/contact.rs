@@ -10,7 +10,7 @@ use super::*;
 /// Exact: every BL-stable placement has grid coordinates.
 pub(super) fn grid_contact_stage(
     inst: &Instance,
-    fps: &[Vec<([f64; 2], Orientation, f64)>],
+    fps: &[Footprints],
     (w, d): (f64, f64),
     warm: Option<&Placement>,
     time_left: f64,
@@ -26,7 +26,7 @@ pub(super) fn grid_contact_stage(
     m.constraints.push(Expression::from(m.depth.0).leq(d));
     let (cw, cd) = (inst.container.width, inst.container.depth);
     let (xs, ys) = GridModel::axes(fps, w, d);
-    let dims = |g: usize, k: usize| fps[m.groups[g][0]][k].0;
+    let dims = |g: usize, k: usize| fps[m.groups[g][0]][k].size;
     let near = |a: f64, b: f64| (a - b).abs() <= 1e-7;
     let mut objective = Expression::from(0.0);
     // contact[(axis, line index, segment index)] = variable, for the BL-stability rows.
@@ -124,7 +124,7 @@ pub(super) fn grid_contact_stage(
 /// with `p`. Returns the placement, whether it is proven optimal, and HiGHS nodes.
 pub(super) fn contact_stage(
     inst: &Instance,
-    fps: &[Vec<([f64; 2], Orientation, f64)>],
+    fps: &[Footprints],
     p: &Placement,
     time_left: f64,
     seed: u64,
@@ -176,7 +176,7 @@ pub(super) fn contact_stage(
                 _ => m.constraints.push((m.y[i].0 + di).geq(cd - big * (1.0 - z))),
             }
             // Contact length = the face length times z: u_k ≤ s_k, u_k ≤ z.
-            for (k, (f, _, _)) in fps[i].iter().enumerate() {
+            for (k, Footprint { size: f, .. }) in fps[i].iter().enumerate() {
                 let (u, uc) = cols.add(variable().min(0.0).max(1.0));
                 let on = *now && (f[0] - t.width()).abs() <= EPS && (f[1] - t.depth()).abs() <= EPS;
                 init_extra.push((uc, if on { 1.0 } else { 0.0 }));

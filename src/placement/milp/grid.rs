@@ -17,7 +17,7 @@ pub(super) struct GridModel {
 }
 
 /// Objects grouped by identical size, footprints and mass.
-pub(super) fn groups(inst: &Instance, fps: &[Vec<([f64; 2], Orientation, f64)>]) -> Vec<Vec<usize>> {
+pub(super) fn groups(inst: &Instance, fps: &[Footprints]) -> Vec<Vec<usize>> {
     let mut out: Vec<Vec<usize>> = Vec::new();
     for i in 0..inst.n() {
         match out.iter_mut().find(|g| identical(inst, fps, g[0], i)) {
@@ -30,15 +30,21 @@ pub(super) fn groups(inst: &Instance, fps: &[Vec<([f64; 2], Orientation, f64)>])
 
 impl GridModel {
     /// Grid coordinates for width bound `w` and depth bound `d`.
-    pub(super) fn axes(fps: &[Vec<([f64; 2], Orientation, f64)>], w: f64, d: f64) -> (Vec<f64>, Vec<f64>) {
-        let xv: Vec<Vec<f64>> = fps.iter().map(|o| o.iter().map(|(f, _, _)| f[0]).collect()).collect();
-        let yv: Vec<Vec<f64>> = fps.iter().map(|o| o.iter().map(|(f, _, _)| f[1]).collect()).collect();
+    pub(super) fn axes(fps: &[Footprints], w: f64, d: f64) -> (Vec<f64>, Vec<f64>) {
+        let xv: Vec<Vec<f64>> = fps
+            .iter()
+            .map(|o| o.iter().map(|Footprint { size: f, .. }| f[0]).collect())
+            .collect();
+        let yv: Vec<Vec<f64>> = fps
+            .iter()
+            .map(|o| o.iter().map(|Footprint { size: f, .. }| f[1]).collect())
+            .collect();
         (subset_sums(&xv, w), subset_sums(&yv, d))
     }
 
     /// Non-zeros of the cover rows the model would have (its size measure: the cover rows
     /// dominate the work HiGHS does in presolve).
-    pub(super) fn size(inst: &Instance, fps: &[Vec<([f64; 2], Orientation, f64)>], w: f64, d: f64) -> usize {
+    pub(super) fn size(inst: &Instance, fps: &[Footprints], w: f64, d: f64) -> usize {
         let (xs, ys) = Self::axes(fps, w, d);
         let covered = |pos: &[f64], lim: f64, ext: f64| -> usize {
             // Σ over positions p ≤ lim − ext of #grid values in [p, p + ext).
@@ -52,25 +58,19 @@ impl GridModel {
             .map(|g| {
                 fps[g[0]]
                     .iter()
-                    .map(|(f, _, _)| covered(&xs, w, f[0]) * covered(&ys, d, f[1]))
+                    .map(|Footprint { size: f, .. }| covered(&xs, w, f[0]) * covered(&ys, d, f[1]))
                     .sum::<usize>()
             })
             .sum()
     }
 
-    pub(super) fn build(
-        inst: &Instance,
-        fps: &[Vec<([f64; 2], Orientation, f64)>],
-        w: f64,
-        d: f64,
-        cols: &mut Cols,
-    ) -> Option<Self> {
+    pub(super) fn build(inst: &Instance, fps: &[Footprints], w: f64, d: f64, cols: &mut Cols) -> Option<Self> {
         let (xs, ys) = Self::axes(fps, w, d);
         let groups = groups(inst, fps);
         let mut vars = Vec::new();
         for (g, members) in groups.iter().enumerate() {
             let before = vars.len();
-            for (k, (f, _, _)) in fps[members[0]].iter().enumerate() {
+            for (k, Footprint { size: f, .. }) in fps[members[0]].iter().enumerate() {
                 for &x in xs.iter().filter(|&&x| x + f[0] <= w + EPS) {
                     for &y in ys.iter().filter(|&&y| y + f[1] <= d + EPS) {
                         let (v, c) = cols.add(variable().binary());
@@ -91,7 +91,7 @@ impl GridModel {
         // Cover rows: each grid point is covered by at most one footprint (half-open rectangles).
         let mut cover: Vec<Vec<Variable>> = vec![Vec::new(); xs.len() * ys.len()];
         for &(g, k, x, y, v, _) in &vars {
-            let f = fps[groups[g][0]][k].0;
+            let f = fps[groups[g][0]][k].size;
             let xi0 = xs.partition_point(|&p| p < x - 1e-9);
             let yi0 = ys.partition_point(|&q| q < y - 1e-9);
             for (xi, &p) in xs.iter().enumerate().skip(xi0) {
@@ -111,13 +111,13 @@ impl GridModel {
             constraints.push(sum.leq(1.0));
         }
         for &(g, k, _, y, v, _) in &vars {
-            let top = y + fps[groups[g][0]][k].0[1];
+            let top = y + fps[groups[g][0]][k].size[1];
             constraints.push((Expression::from(depth.0) - top * v).geq(0.0));
         }
         let area: Expression = vars
             .iter()
             .map(|&(g, k, _, _, v, _)| {
-                let f = fps[groups[g][0]][k].0;
+                let f = fps[groups[g][0]][k].size;
                 f[0] * f[1] * v
             })
             .sum();
@@ -130,12 +130,7 @@ impl GridModel {
         })
     }
 
-    pub(super) fn initial(
-        &self,
-        fps: &[Vec<([f64; 2], Orientation, f64)>],
-        p: &Placement,
-        ncols: usize,
-    ) -> Option<Vec<f64>> {
+    pub(super) fn initial(&self, fps: &[Footprints], p: &Placement, ncols: usize) -> Option<Vec<f64>> {
         let mut v = vec![0.0; ncols];
         for (g, members) in self.groups.iter().enumerate() {
             for &i in members {
@@ -144,7 +139,7 @@ impl GridModel {
                     if gg != g {
                         return false;
                     }
-                    let f = fps[members[0]][k].0;
+                    let f = fps[members[0]][k].size;
                     (x - t.x0).abs() <= 1e-7
                         && (y - t.y0).abs() <= 1e-7
                         && (f[0] - t.width()).abs() <= EPS
@@ -157,14 +152,18 @@ impl GridModel {
         Some(v)
     }
 
-    pub(super) fn extract(&self, fps: &[Vec<([f64; 2], Orientation, f64)>], n: usize, cols: &[f64]) -> Placement {
+    pub(super) fn extract(&self, fps: &[Footprints], n: usize, cols: &[f64]) -> Placement {
         let mut targets: Vec<Option<Target>> = vec![None; n];
         let mut next = vec![0usize; self.groups.len()];
         for &(g, k, x, y, _, c) in &self.vars {
             if cols[c] > 0.5 && next[g] < self.groups[g].len() {
                 let i = self.groups[g][next[g]];
                 next[g] += 1;
-                let (f, q, h) = fps[i][k];
+                let Footprint {
+                    size: f,
+                    orientation: q,
+                    height: h,
+                } = fps[i][k];
                 targets[i] = Some(Target {
                     orientation: q,
                     rect: Rect::new(x, y, f[0], f[1]),
@@ -180,9 +179,9 @@ impl GridModel {
                     // A missing target only happens with a solver tolerance failure; the caller's
                     // validity check then rejects the placement.
                     t.unwrap_or(Target {
-                        orientation: fps[i][0].1,
-                        rect: Rect::new(-1.0, -1.0, fps[i][0].0[0], fps[i][0].0[1]),
-                        height: fps[i][0].2,
+                        orientation: fps[i][0].orientation,
+                        rect: Rect::new(-1.0, -1.0, fps[i][0].size[0], fps[i][0].size[1]),
+                        height: fps[i][0].height,
                     })
                 })
                 .collect(),

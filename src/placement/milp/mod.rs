@@ -30,11 +30,11 @@
 //! and allowed footprints) are ordered by `x` (symmetry breaking; valid because any placement can
 //! be relabelled so).
 
-use super::area::{self, subset_sums, BoundPoint};
+use super::area::{self, subset_sums, BoundPoint, Footprint, Footprints};
 use super::{is_bl_stable, Placement, PlacementResult, PlacementStatus, Target};
 use crate::control::Terminator;
 use crate::error::{Error, Result};
-use crate::geometry::{Axis2, Orientation, Rect, EPS};
+use crate::geometry::{Axis2, Rect, EPS};
 use crate::instance::Instance;
 use good_lp::solvers::highs::highs;
 use good_lp::{variable, Constraint, Expression, ProblemVariables, SolverModel, Variable};
@@ -42,6 +42,7 @@ use highs::HighsModelStatus;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
+mod benders;
 mod contact;
 mod grid;
 mod model;
@@ -57,6 +58,33 @@ use solver::*;
 /// Tolerance on areas when collecting the extents tied with the optimum.
 const AREA_TOL: f64 = 1e-9;
 
+/// How much time the second, lexicographic stage (maximum contact length among the placements
+/// of least area) may take. Whatever it is given, a stop leaves the area proven and reports the
+/// status `feasible` with the bound; only the contact proof is lost.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactBudget {
+    /// What the time limit leaves (the default): the limit the user set governs both stages.
+    Rest,
+    /// As long as the area stage took, at least 1 s: the contact stage never costs more than
+    /// the area stage (the rule before 2026-11-25, kept for comparisons).
+    AreaTime,
+    /// At most this many seconds (and never past the time limit).
+    Seconds(f64),
+}
+
+/// The master of the area stage's Benders split (x-coordinates under the cumulative relaxation;
+/// the y-phase checks each x-assignment). Both are exact; they differ in speed
+/// (docs/benchmarks.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AreaMaster {
+    /// The combinatorial x-phase of [`super::opp`] (the default: the faster one, measured).
+    Search,
+    /// A HiGHS MILP over normal-pattern left edges, with no-good cuts from the y-phase.
+    Highs,
+}
+
 /// MILP settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MilpSettings {
@@ -66,9 +94,11 @@ pub struct MilpSettings {
     pub contact_stage: bool,
     /// HiGHS random seed.
     pub seed: u64,
-    /// Time of the contact stage's enumeration (s); `None` (the default) gives it the area
-    /// stage's time, at least 1 s. Measurements set it to see what more time would prove.
-    pub contact_budget_s: Option<f64>,
+    /// What decides each enclosing box of the area stage (default [`AreaMaster::Search`]).
+    pub area_master: AreaMaster,
+    /// How long the contact stage may run (default [`ContactBudget::Rest`]: what the time
+    /// limit leaves after the area stage).
+    pub contact_budget: ContactBudget,
     /// Largest grid model (cover-row non-zeros) built before the contact stage falls back to
     /// the disjunctive model (default 400,000; how it was chosen: docs/benchmarks/history.md).
     pub grid_max_nnz: usize,
@@ -80,25 +110,30 @@ impl Default for MilpSettings {
             time_limit: 60.0,
             contact_stage: true,
             seed: 0,
-            contact_budget_s: None,
+            contact_budget: ContactBudget::Rest,
+            area_master: AreaMaster::Search,
             grid_max_nnz: GRID_MAX_NNZ,
         }
     }
 }
 
 /// Distinct footprints (x-extent, y-extent) of each object with their orientations.
-fn footprints(inst: &Instance) -> Vec<Vec<([f64; 2], Orientation, f64)>> {
+fn footprints(inst: &Instance) -> Vec<Footprints> {
     inst.objects
         .iter()
         .map(|o| {
-            let mut v: Vec<([f64; 2], Orientation, f64)> = Vec::new();
+            let mut v: Footprints = Vec::new();
             for q in &o.orientations {
                 let (fp, h) = q.dims(o.size);
                 if !v
                     .iter()
-                    .any(|(f, _, _)| (f[0] - fp[0]).abs() <= EPS && (f[1] - fp[1]).abs() <= EPS)
+                    .any(|Footprint { size: f, .. }| (f[0] - fp[0]).abs() <= EPS && (f[1] - fp[1]).abs() <= EPS)
                 {
-                    v.push((fp, *q, h));
+                    v.push(Footprint {
+                        size: fp,
+                        orientation: *q,
+                        height: h,
+                    });
                 }
             }
             v
@@ -107,12 +142,12 @@ fn footprints(inst: &Instance) -> Vec<Vec<([f64; 2], Orientation, f64)>> {
 }
 
 /// All sums of at most one x-extent per object that fit in `limit`, sorted, deduplicated.
-pub fn candidate_widths(fps: &[Vec<([f64; 2], Orientation, f64)>], limit: f64) -> Vec<f64> {
+pub fn candidate_widths(fps: &[Footprints], limit: f64) -> Vec<f64> {
     let mut sums = vec![0.0f64];
     for opts in fps {
         let mut next = sums.clone();
         for s in &sums {
-            for (f, _, _) in opts {
+            for Footprint { size: f, .. } in opts {
                 let v = s + f[0];
                 if v <= limit + EPS {
                     next.push(v);

@@ -32,29 +32,31 @@ pub(super) struct PlacementModel {
 }
 
 impl PlacementModel {
-    pub(super) fn width(&self, fps: &[Vec<([f64; 2], Orientation, f64)>], i: usize) -> Expression {
-        self.s[i].iter().zip(&fps[i]).map(|((v, _), (f, _, _))| f[0] * *v).sum()
+    pub(super) fn width(&self, fps: &[Footprints], i: usize) -> Expression {
+        self.s[i]
+            .iter()
+            .zip(&fps[i])
+            .map(|((v, _), Footprint { size: f, .. })| f[0] * *v)
+            .sum()
     }
-    pub(super) fn depth_of(&self, fps: &[Vec<([f64; 2], Orientation, f64)>], i: usize) -> Expression {
-        self.s[i].iter().zip(&fps[i]).map(|((v, _), (f, _, _))| f[1] * *v).sum()
+    pub(super) fn depth_of(&self, fps: &[Footprints], i: usize) -> Expression {
+        self.s[i]
+            .iter()
+            .zip(&fps[i])
+            .map(|((v, _), Footprint { size: f, .. })| f[1] * *v)
+            .sum()
     }
 
     /// Variables and the geometric rows: one orientation each, inside `[0,W]×[0,D]`,
     /// pairwise non-overlap, symmetry breaking.
-    pub(super) fn build(
-        inst: &Instance,
-        fps: &[Vec<([f64; 2], Orientation, f64)>],
-        w: f64,
-        d_max: f64,
-        cols: &mut Cols,
-    ) -> Option<Self> {
+    pub(super) fn build(inst: &Instance, fps: &[Footprints], w: f64, d_max: f64, cols: &mut Cols) -> Option<Self> {
         let n = inst.n();
         let mut s = Vec::new();
         for opts in fps.iter() {
             // A footprint that cannot fit is fixed to 0 (kept as a column so indices stay aligned).
             let row: Vec<(Variable, usize)> = opts
                 .iter()
-                .map(|(f, _, _)| {
+                .map(|Footprint { size: f, .. }| {
                     let fits = f[0] <= w + EPS && f[1] <= d_max + EPS;
                     cols.add(if fits {
                         variable().binary()
@@ -63,7 +65,10 @@ impl PlacementModel {
                     })
                 })
                 .collect();
-            if opts.iter().all(|(f, _, _)| f[0] > w + EPS || f[1] > d_max + EPS) {
+            if opts
+                .iter()
+                .all(|Footprint { size: f, .. }| f[0] > w + EPS || f[1] > d_max + EPS)
+            {
                 return None;
             }
             s.push(row);
@@ -93,7 +98,7 @@ impl PlacementModel {
         }
     }
 
-    pub(super) fn containment_rows(&mut self, fps: &[Vec<([f64; 2], Orientation, f64)>], w: f64) {
+    pub(super) fn containment_rows(&mut self, fps: &[Footprints], w: f64) {
         for i in 0..self.s.len() {
             let wi = self.width(fps, i);
             let di = self.depth_of(fps, i);
@@ -105,21 +110,29 @@ impl PlacementModel {
             .s
             .iter()
             .zip(fps)
-            .flat_map(|(row, opts)| row.iter().zip(opts).map(|((v, _), (f, _, _))| f[0] * f[1] * *v))
+            .flat_map(|(row, opts)| {
+                row.iter()
+                    .zip(opts)
+                    .map(|((v, _), Footprint { size: f, .. })| f[0] * f[1] * *v)
+            })
             .sum();
         self.constraints.push(area.leq(w * self.depth.0));
     }
 
-    pub(super) fn non_overlap_rows(
-        &mut self,
-        fps: &[Vec<([f64; 2], Orientation, f64)>],
-        w: f64,
-        d_max: f64,
-        cols: &mut Cols,
-    ) {
+    pub(super) fn non_overlap_rows(&mut self, fps: &[Footprints], w: f64, d_max: f64, cols: &mut Cols) {
         let n = self.s.len();
-        let min_w = |i: usize| fps[i].iter().map(|(f, _, _)| f[0]).fold(f64::INFINITY, f64::min);
-        let min_d = |i: usize| fps[i].iter().map(|(f, _, _)| f[1]).fold(f64::INFINITY, f64::min);
+        let min_w = |i: usize| {
+            fps[i]
+                .iter()
+                .map(|Footprint { size: f, .. }| f[0])
+                .fold(f64::INFINITY, f64::min)
+        };
+        let min_d = |i: usize| {
+            fps[i]
+                .iter()
+                .map(|Footprint { size: f, .. }| f[1])
+                .fold(f64::INFINITY, f64::min)
+        };
         for i in 0..n {
             for j in i + 1..n {
                 let side_by_side_x = min_w(i) + min_w(j) <= w + EPS;
@@ -155,7 +168,7 @@ impl PlacementModel {
         }
     }
 
-    pub(super) fn symmetry_rows(&mut self, inst: &Instance, fps: &[Vec<([f64; 2], Orientation, f64)>]) {
+    pub(super) fn symmetry_rows(&mut self, inst: &Instance, fps: &[Footprints]) {
         let n = self.s.len();
         for i in 0..n {
             // Next identical object after i: order them by x.
@@ -166,9 +179,9 @@ impl PlacementModel {
     }
 }
 
-pub(super) fn identical(inst: &Instance, fps: &[Vec<([f64; 2], Orientation, f64)>], i: usize, j: usize) -> bool {
+pub(super) fn identical(inst: &Instance, fps: &[Footprints], i: usize, j: usize) -> bool {
     inst.objects[i].size == inst.objects[j].size
         && fps[i].len() == fps[j].len()
-        && fps[i].iter().zip(&fps[j]).all(|(a, b)| a.0 == b.0)
+        && fps[i].iter().zip(&fps[j]).all(|(a, b)| a.size == b.size)
         && inst.objects[i].mass == inst.objects[j].mass
 }

@@ -62,12 +62,7 @@ pub(super) fn mip_node_count(solved: &highs::SolvedModel) -> u64 {
 }
 
 /// Read a placement from a solved column vector.
-pub(super) fn extract(
-    inst: &Instance,
-    fps: &[Vec<([f64; 2], Orientation, f64)>],
-    m: &PlacementModel,
-    cols: &[f64],
-) -> Placement {
+pub(super) fn extract(inst: &Instance, fps: &[Footprints], m: &PlacementModel, cols: &[f64]) -> Placement {
     let targets = (0..inst.n())
         .map(|i| {
             let k = m.s[i]
@@ -76,7 +71,11 @@ pub(super) fn extract(
                 .max_by(|a, b| cols[a.1 .1].total_cmp(&cols[b.1 .1]))
                 .map(|(k, _)| k)
                 .expect("at least one orientation");
-            let (f, q, h) = fps[i][k];
+            let Footprint {
+                size: f,
+                orientation: q,
+                height: h,
+            } = fps[i][k];
             // Snap to the 0.1 µm grid: MILP solutions carry solver tolerances.
             let snap = |v: f64| (v * 1e7).round() / 1e7;
             Target {
@@ -90,15 +89,10 @@ pub(super) fn extract(
 }
 
 /// Column vector of a known placement for the model (warm start).
-pub(super) fn initial_columns(
-    fps: &[Vec<([f64; 2], Orientation, f64)>],
-    m: &PlacementModel,
-    p: &Placement,
-    ncols: usize,
-) -> Vec<f64> {
+pub(super) fn initial_columns(fps: &[Footprints], m: &PlacementModel, p: &Placement, ncols: usize) -> Vec<f64> {
     let mut v = vec![0.0; ncols];
     for (i, t) in p.targets.iter().enumerate() {
-        for ((_, c), (f, _, _)) in m.s[i].iter().zip(&fps[i]) {
+        for ((_, c), Footprint { size: f, .. }) in m.s[i].iter().zip(&fps[i]) {
             if (f[0] - t.rect.width()).abs() <= EPS && (f[1] - t.rect.depth()).abs() <= EPS {
                 v[*c] = 1.0;
                 break;
