@@ -314,6 +314,32 @@ placement and sequence stages, the joint trajectories (motion) and the verifier;
             }
         }
     }
+    if names.len() > 1 && names.len() <= 63 {
+        let prof = performance_profile(rows, &names);
+        let taus = [1.0, 1.5, 2.0, 4.0, 10.0, 100.0];
+        let _ = writeln!(s, "\n## Performance profile (wall time)\n");
+        let _ = writeln!(
+            s,
+            "Share of the {} instances every planner ran that each planner solved within τ times the \
+fastest solved time on that instance (Dolan and Moré 2002); an unsolved run never counts, so the last column is \
+the solved share. `performance_profile.svg` draws it.\n",
+            prof.instances
+        );
+        s += "| planner |";
+        for t in taus {
+            let _ = write!(s, " τ = {t} |");
+        }
+        s += " solved |\n|---|";
+        s += &"---:|".repeat(taus.len() + 1);
+        s.push('\n');
+        for (k, p) in names.iter().enumerate() {
+            let _ = write!(s, "| {p} |");
+            for t in taus {
+                let _ = write!(s, " {:.0} % |", 100.0 * prof.share_within(k, t));
+            }
+            let _ = writeln!(s, " {:.0} % |", 100.0 * prof.share_within(k, f64::INFINITY));
+        }
+    }
     let groups = ablation_groups(rows);
     if !groups.is_empty() {
         let _ = writeln!(s, "\n## Ablations (the paper's Table II): mean number of actions\n");
@@ -364,6 +390,62 @@ placement and sequence stages, the joint trajectories (motion) and the verifier;
         }
     }
     s
+}
+
+/// A Dolan–Moré performance profile of wall time: the instances every planner of `names` ran,
+/// and per planner the ratio of its time to the fastest solved time on each instance it solved,
+/// sorted. `ρ_p(τ)`, the share of instances planner `p` solved within `τ` times the fastest, is
+/// the number of its ratios at most `τ` over the instance count; unsolved runs never count, so
+/// `ρ_p(∞)` is its solved share. Unlike mean ratios over the commonly solved instances, a
+/// profile also charges a planner for the instances it did not solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    /// Instances every planner ran.
+    pub instances: usize,
+    /// Per planner (in the order given): its sorted time ratios on the instances it solved.
+    pub ratios: Vec<Vec<f64>>,
+}
+
+impl Profile {
+    /// `ρ_p(τ)` of planner index `k`.
+    pub fn share_within(&self, k: usize, tau: f64) -> f64 {
+        if self.instances == 0 {
+            return 0.0;
+        }
+        self.ratios[k].partition_point(|&r| r <= tau * (1.0 + 1e-12)) as f64 / self.instances as f64
+    }
+}
+
+/// The wall-time [`Profile`] of `names` (at most 63 planners) over `rows`.
+pub fn performance_profile(rows: &[ResultRow], names: &[String]) -> Profile {
+    // Per instance: which planners ran it (a bit each), and each one's time when it solved it.
+    let mut runs: BTreeMap<&str, (u64, Vec<Option<f64>>)> = BTreeMap::new();
+    for r in rows {
+        if let Some(k) = names.iter().position(|p| *p == r.planner) {
+            let e = runs.entry(&r.instance).or_insert_with(|| (0, vec![None; names.len()]));
+            e.0 |= 1 << k;
+            e.1[k] = r.solved().then_some(r.wall_time_s.max(1e-9));
+        }
+    }
+    let all = (1u64 << names.len()) - 1;
+    let mut ratios = vec![Vec::new(); names.len()];
+    let mut instances = 0;
+    for (ran, times) in runs.values() {
+        if *ran != all {
+            continue;
+        }
+        instances += 1;
+        let best = times.iter().flatten().copied().fold(f64::INFINITY, f64::min);
+        for (k, t) in times.iter().enumerate() {
+            if let Some(t) = t {
+                ratios[k].push(t / best);
+            }
+        }
+    }
+    for r in &mut ratios {
+        r.sort_by(f64::total_cmp);
+    }
+    Profile { instances, ratios }
 }
 
 /// Per set: number of instances every variant solved, and each variant's mean actions on them.
@@ -441,6 +523,44 @@ mod tests {
             r.occupied_area = Some(l as f64);
         }
         r
+    }
+
+    /// Hand-computed profile: on a, milp+astar 1 s and bl+paper 2 s; on b, milp+astar unsolved
+    /// and bl+paper 3 s; on c, both unsolved; d is run by milp+astar only and stays out.
+    #[test]
+    fn performance_profile_counts_unsolved_runs_against_the_planner() {
+        let timed = |inst: &str, planner: &str, t: Option<f64>| {
+            let mut r = row(inst, planner, t.map(|_| 5));
+            r.wall_time_s = t.unwrap_or(9.0);
+            r
+        };
+        let rows = vec![
+            timed("s/a", "milp+astar", Some(1.0)),
+            timed("s/a", "bl+paper", Some(2.0)),
+            timed("s/b", "milp+astar", None),
+            timed("s/b", "bl+paper", Some(3.0)),
+            timed("s/c", "milp+astar", None),
+            timed("s/c", "bl+paper", None),
+            timed("s/d", "milp+astar", Some(1.0)),
+        ];
+        let names = vec!["milp+astar".to_string(), "bl+paper".to_string()];
+        let p = performance_profile(&rows, &names);
+        assert_eq!(p.instances, 3);
+        assert_eq!(p.ratios, vec![vec![1.0], vec![1.0, 2.0]]);
+        assert_eq!(p.share_within(0, 1.0), 1.0 / 3.0);
+        assert_eq!(p.share_within(0, f64::INFINITY), 1.0 / 3.0);
+        assert_eq!(p.share_within(1, 1.0), 1.0 / 3.0);
+        assert_eq!(p.share_within(1, 1.9), 1.0 / 3.0);
+        assert_eq!(p.share_within(1, 2.0), 2.0 / 3.0);
+        let md = summary_markdown(&Merged {
+            rows,
+            files: vec![],
+            duplicates: 0,
+        });
+        assert!(
+            md.contains("| bl+paper | 33 % | 33 % | 67 % | 67 % | 67 % | 67 % | 67 % |"),
+            "{md}"
+        );
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! SVG plots of benchmark rows (plotters): time vs objects, cactus, ratio distributions to the
 //! reference planner, and the paper's Table II as bars.
 
-use super::{ablation_groups, ablation_means, best_per_instance, median, planners};
+use super::{ablation_groups, ablation_means, best_per_instance, median, performance_profile, planners};
 use crate::bench::row::ResultRow;
 use crate::error::{Error, Result};
 use plotters::chart::MeshStyle;
@@ -59,6 +59,11 @@ pub fn write_plots(rows: &[ResultRow], out: &Path) -> Result<Vec<PathBuf>> {
     let p = out.join("cactus.svg");
     cactus(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
     files.push(p);
+    if names.len() > 1 {
+        let p = out.join("performance_profile.svg");
+        profile_plot(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
+        files.push(p);
+    }
     let p = out.join("ratios.svg");
     ratios(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
     files.push(p);
@@ -246,6 +251,50 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         if pts.len() <= 60 {
             chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))?;
         }
+    }
+    draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+    root.present()?;
+    Ok(())
+}
+
+/// Dolan–Moré performance profile of wall time ([`super::Profile`]): a step line per planner.
+fn profile_plot(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
+    let prof = performance_profile(rows, names);
+    let top = prof.ratios.iter().flatten().copied().fold(1.0, f64::max);
+    let xr = 1.0..10f64.powf((top * 1.5).log10().ceil()).max(10.0);
+    let root = SVGBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "Performance profile: wall time, {} instances every planner ran",
+                prof.instances
+            ),
+            (FONT, 24),
+        )
+        .margin(20)
+        .x_label_area_size(55)
+        .y_label_area_size(80)
+        .build_cartesian_2d(xr.clone().log_scale().with_key_points(log_ticks(&xr)), 0f64..1.02)?;
+    house_style(&mut chart.configure_mesh())
+        .x_desc("τ: time within τ × the fastest planner on the instance (log scale)")
+        .y_desc("share of instances")
+        .x_label_formatter(&|x| tick_label(*x))
+        .y_label_formatter(&|y| format!("{:.0} %", 100.0 * y))
+        .draw()?;
+    for (k, r) in prof.ratios.iter().enumerate() {
+        let (c, w) = (color(k), width(k, names.len()));
+        let n = prof.instances.max(1) as f64;
+        let mut pts = vec![(1.0, 0.0)];
+        for (i, &x) in r.iter().enumerate() {
+            pts.push((x, i as f64 / n));
+            pts.push((x, (i + 1) as f64 / n));
+        }
+        pts.push((xr.end, r.len() as f64 / n));
+        chart
+            .draw_series(LineSeries::new(pts, c.stroke_width(w)))?
+            .label(format!("{} ({} of {} solved)", names[k], r.len(), prof.instances))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(w)));
     }
     draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
     root.present()?;
