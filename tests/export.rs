@@ -108,6 +108,7 @@ fn export_writes_ros_yaml_json_and_csv_per_arm_that_parse_back() {
                     let m: RosJointTrajectory = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
                     assert_eq!(rows, m.points.len());
                 }
+                ExportFormat::Ros2Goal => unreachable!("not in this loop: its own test below"),
             }
             seen += 1;
         }
@@ -134,4 +135,171 @@ fn yaml_of_an_empty_message_parses_and_bad_plans_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let e = export(&plan, ExportFormat::Csv, dir.path()).unwrap_err();
     assert!(e.to_string().contains("no joint trajectories"), "{e}");
+}
+
+/// ROS 2 `builtin_interfaces/Duration`, as the message definition has it.
+#[derive(serde::Deserialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct Duration {
+    sec: i32,
+    nanosec: u32,
+}
+
+impl Duration {
+    fn secs(&self) -> f64 {
+        self.sec as f64 + self.nanosec as f64 * 1e-9
+    }
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct Header {
+    stamp: Duration,
+    frame_id: String,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct JointTrajectoryPoint {
+    positions: Vec<f64>,
+    velocities: Vec<f64>,
+    accelerations: Vec<f64>,
+    effort: Vec<f64>,
+    time_from_start: Duration,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct JointTrajectory {
+    header: Header,
+    joint_names: Vec<String>,
+    points: Vec<JointTrajectoryPoint>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct MultiDofJointTrajectory {
+    header: Header,
+    joint_names: Vec<String>,
+    points: Vec<serde_norway::Value>,
+}
+
+/// `control_msgs/action/FollowJointTrajectory` goal (ROS 2 Humble and later), field for field.
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct FollowJointTrajectoryGoal {
+    trajectory: JointTrajectory,
+    multi_dof_trajectory: MultiDofJointTrajectory,
+    path_tolerance: Vec<serde_norway::Value>,
+    component_path_tolerance: Vec<serde_norway::Value>,
+    goal_tolerance: Vec<serde_norway::Value>,
+    component_goal_tolerance: Vec<serde_norway::Value>,
+    goal_time_tolerance: Duration,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct GripperCommand {
+    position: f64,
+    max_effort: f64,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct GripperStep {
+    time_from_start: Duration,
+    arm: String,
+    command: GripperCommand,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct GripperSteps {
+    steps: Vec<GripperStep>,
+}
+
+/// The ROS 2 goal parses as the real message definitions; both arms' points are on it with
+/// their own positions, joint speeds by finite differences stay within the plan's limits, and
+/// the gripper commands close on every object the plan picks and open again.
+#[test]
+fn ros2_goal_for_both_arms_with_gripper_commands_parses_as_the_message_definitions() {
+    let plan = plan();
+    let dir = tempfile::tempdir().unwrap();
+    let files = export(&plan, ExportFormat::Ros2Goal, dir.path()).unwrap();
+    assert_eq!(files.len(), 2);
+    let goal: FollowJointTrajectoryGoal =
+        serde_norway::from_str(&std::fs::read_to_string(dir.path().join("both_arms_goal.yaml")).unwrap()).unwrap();
+    let t = &goal.trajectory;
+    assert_eq!(t.header.frame_id, "WAIST");
+    assert_eq!(t.header.stamp.secs(), 0.0);
+    assert!(goal.multi_dof_trajectory.joint_names.is_empty() && goal.multi_dof_trajectory.points.is_empty());
+    assert!(goal.multi_dof_trajectory.header.frame_id.is_empty());
+    assert!(goal.path_tolerance.is_empty() && goal.goal_tolerance.is_empty());
+    assert!(goal.component_path_tolerance.is_empty() && goal.component_goal_tolerance.is_empty());
+    assert_eq!(goal.goal_time_tolerance.secs(), 0.0);
+    let moving: Vec<Arm> = [Arm::Left, Arm::Right]
+        .into_iter()
+        .filter(|&a| plan.trajectories.iter().any(|tr| tr.arm == a))
+        .collect();
+    assert_eq!(t.joint_names.len(), 6 * moving.len());
+    assert_eq!(t.points[0].time_from_start.secs(), 0.0);
+    for p in &t.points {
+        assert_eq!(p.positions.len(), t.joint_names.len());
+        assert_eq!(p.velocities.len(), t.joint_names.len());
+        assert!(p.accelerations.is_empty() && p.effort.is_empty());
+        assert!(p.time_from_start.nanosec < 1_000_000_000);
+    }
+    let limits = plan.robot.as_ref().unwrap().velocity_limits.clone();
+    for w in t.points.windows(2) {
+        let dt = w[1].time_from_start.secs() - w[0].time_from_start.secs();
+        assert!(dt > 0.0, "time runs forward");
+        for j in 0..t.joint_names.len() {
+            let v = (w[1].positions[j] - w[0].positions[j]).abs() / dt;
+            // Durations are rounded to the nanosecond: allow that much.
+            assert!(
+                v <= limits[j % 6] * (1.0 + 1e-6),
+                "joint {j}: {v} rad/s over {}",
+                limits[j % 6]
+            );
+        }
+    }
+    // Each arm's own points are on the goal, in its six columns.
+    for (k, &arm) in moving.iter().enumerate() {
+        for tr in plan.trajectories.iter().filter(|tr| tr.arm == arm) {
+            for p in &tr.points {
+                let q = t
+                    .points
+                    .iter()
+                    .find(|q| (q.time_from_start.secs() - p.t).abs() < 1e-6)
+                    .unwrap_or_else(|| panic!("no goal point at t = {}", p.t));
+                for j in 0..6 {
+                    assert!((q.positions[6 * k + j] - p.positions[j]).abs() < 1e-12);
+                }
+            }
+        }
+    }
+    let g: GripperSteps =
+        serde_norway::from_str(&std::fs::read_to_string(dir.path().join("gripper_commands.yaml")).unwrap()).unwrap();
+    assert!(g
+        .steps
+        .windows(2)
+        .all(|w| w[0].time_from_start.secs() <= w[1].time_from_start.secs()));
+    let end = t.points.last().unwrap().time_from_start.secs();
+    let mut closes = 0;
+    for arm in ["left", "right"] {
+        let steps: Vec<&GripperStep> = g.steps.iter().filter(|s| s.arm == arm).collect();
+        for w in steps.windows(2) {
+            assert!(
+                (w[0].command.position - w[1].command.position).abs() > 1e-9,
+                "a command changes the opening"
+            );
+            closes += (w[1].command.position < w[0].command.position) as usize;
+        }
+    }
+    for s in &g.steps {
+        assert!(s.command.position >= 0.0 && s.command.max_effort == 0.0);
+        assert!(s.time_from_start.secs() <= end + 1e-9);
+    }
+    let picks = plan.actions.iter().filter(|a| a.kind == "place").count();
+    assert!(closes >= picks, "{closes} closing commands for {picks} placed objects");
 }

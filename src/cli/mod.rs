@@ -87,7 +87,8 @@ enum Cmd {
     Export {
         /// plan.json.
         plan: PathBuf,
-        /// `ros-yaml`, `ros-json` or `csv`.
+        /// `ros-yaml`, `ros-json`, `csv` (ROS 1 messages or CSV, one file per arm) or `ros2-goal`
+        /// (a ROS 2 FollowJointTrajectory goal for both arms, and the gripper commands).
         #[arg(long, default_value = "ros-yaml")]
         format: String,
         /// Output directory.

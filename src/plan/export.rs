@@ -1,5 +1,5 @@
-//! Export of a plan's joint trajectories for a robot controller: one ROS
-//! `trajectory_msgs/JointTrajectory`-shaped message per arm (YAML or JSON) or one CSV per arm.
+//! Export of a plan's joint trajectories for a robot controller: one ROS 1
+//! `trajectory_msgs/JointTrajectory`-shaped message per arm (YAML or JSON) or one CSV per arm; or, for ROS 2, a goal for both arms with gripper commands ([`super::ros2`]).
 //!
 //! Each arm's message holds every point of its moves in plan time (`time_from_start` from the
 //! start of the plan); while the other arm works, the arm holds still (two points with the same
@@ -23,11 +23,15 @@ pub enum ExportFormat {
     RosJson,
     /// CSV: `t` then one column per joint (`<arm>_arm.csv`).
     Csv,
+    /// ROS 2: one `control_msgs/action/FollowJointTrajectory` goal for both arms
+    /// (`both_arms_goal.yaml`) and the gripper commands on its clock
+    /// (`gripper_commands.yaml`); see [`super::ros2`].
+    Ros2Goal,
 }
 
 impl ExportFormat {
-    /// Command-line names: `ros-yaml`, `ros-json`, `csv`.
-    pub const NAMES: [&'static str; 3] = ["ros-yaml", "ros-json", "csv"];
+    /// Command-line names: `ros-yaml`, `ros-json`, `csv`, `ros2-goal`.
+    pub const NAMES: [&'static str; 4] = ["ros-yaml", "ros-json", "csv", "ros2-goal"];
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
@@ -35,6 +39,7 @@ impl ExportFormat {
             ExportFormat::RosYaml => "ros-yaml",
             ExportFormat::RosJson => "ros-json",
             ExportFormat::Csv => "csv",
+            ExportFormat::Ros2Goal => "ros2-goal",
         }
     }
 
@@ -43,6 +48,7 @@ impl ExportFormat {
             ExportFormat::RosYaml => "yaml",
             ExportFormat::RosJson => "json",
             ExportFormat::Csv => "csv",
+            ExportFormat::Ros2Goal => "yaml",
         }
     }
 }
@@ -54,8 +60,9 @@ impl std::str::FromStr for ExportFormat {
             "ros-yaml" => Ok(ExportFormat::RosYaml),
             "ros-json" => Ok(ExportFormat::RosJson),
             "csv" => Ok(ExportFormat::Csv),
+            "ros2-goal" => Ok(ExportFormat::Ros2Goal),
             other => Err(format!(
-                "unknown export format {other:?}: expected one of ros-yaml, ros-json, csv"
+                "unknown export format {other:?}: expected one of ros-yaml, ros-json, csv, ros2-goal"
             )),
         }
     }
@@ -269,6 +276,22 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
         source: e,
     })?;
     let mut written = Vec::new();
+    let write = |name: &str, text: String, written: &mut Vec<PathBuf>| -> Result<()> {
+        let path = out_dir.join(name);
+        std::fs::write(&path, text).map_err(|e| Error::Io {
+            path: path.clone(),
+            source: e,
+        })?;
+        written.push(path);
+        Ok(())
+    };
+    if format == ExportFormat::Ros2Goal {
+        if let Some(e) = super::ros2::ros2_export(plan) {
+            write("both_arms_goal.yaml", super::ros2::goal_yaml(&e), &mut written)?;
+            write("gripper_commands.yaml", super::ros2::gripper_yaml(&e), &mut written)?;
+        }
+        return Ok(written);
+    }
     for arm in [Arm::Left, Arm::Right] {
         let Some(m) = arm_message(plan, arm) else {
             continue;
@@ -277,13 +300,13 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
             ExportFormat::RosYaml => to_yaml(&m),
             ExportFormat::RosJson => serde_json::to_string_pretty(&m).expect("messages serialise") + "\n",
             ExportFormat::Csv => to_csv(&m),
+            ExportFormat::Ros2Goal => continue, // written above
         };
-        let path = out_dir.join(format!("{}_arm.{}", arm.name(), format.extension()));
-        std::fs::write(&path, text).map_err(|e| Error::Io {
-            path: path.clone(),
-            source: e,
-        })?;
-        written.push(path);
+        write(
+            &format!("{}_arm.{}", arm.name(), format.extension()),
+            text,
+            &mut written,
+        )?;
     }
     Ok(written)
 }

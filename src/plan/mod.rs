@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 mod build;
 pub mod export;
 mod file;
+pub mod ros2;
 
 pub use build::build_plan;
 pub use file::*;

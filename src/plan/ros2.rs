@@ -1,0 +1,255 @@
+//! Export for a ROS 2 cell: one `control_msgs/action/FollowJointTrajectory` goal that moves both
+//! arms (every arm joint, the robot's own joint names), and the gripper commands
+//! (`control_msgs/action/GripperCommand` goals) with the times at which to send them, on the
+//! goal's clock.
+//!
+//! Durations are ROS 2 `builtin_interfaces/Duration` (`sec`, `nanosec`). The joint trajectory is
+//! the union of the two arms' points: at a time only one arm has a point, the other arm's
+//! position and velocity are interpolated linearly between its own points, which is exact while
+//! it holds still (the per-arm messages hold an arm with two equal points while the other works).
+//! The YAML is written by hand, as for the ROS 1 messages; the tests parse it back into structs
+//! that mirror the message definitions field for field.
+
+use super::export::{arm_message, RosJointTrajectory};
+use crate::geometry::Arm;
+use crate::plan::Plan;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+
+/// `builtin_interfaces/Duration` (and `Time`): whole seconds and nanoseconds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Duration {
+    /// Whole seconds.
+    pub sec: i32,
+    /// Nanoseconds, `0 ≤ nanosec < 1e9`.
+    pub nanosec: u32,
+}
+
+impl Duration {
+    /// From seconds, rounded to the nanosecond.
+    pub fn from_secs(t: f64) -> Duration {
+        let ns = (t * 1e9).round() as i64;
+        Duration {
+            sec: ns.div_euclid(1_000_000_000) as i32,
+            nanosec: ns.rem_euclid(1_000_000_000) as u32,
+        }
+    }
+
+    /// As seconds.
+    pub fn as_secs(&self) -> f64 {
+        self.sec as f64 + self.nanosec as f64 * 1e-9
+    }
+}
+
+/// `trajectory_msgs/JointTrajectoryPoint` (ROS 2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Point {
+    /// Joint positions (rad), in `joint_names` order.
+    pub positions: Vec<f64>,
+    /// Joint velocities (rad/s).
+    pub velocities: Vec<f64>,
+    /// Empty: the controller interpolates.
+    pub accelerations: Vec<f64>,
+    /// Empty.
+    pub effort: Vec<f64>,
+    /// Time from the start of the goal.
+    pub time_from_start: Duration,
+}
+
+/// The goal: a `control_msgs/action/FollowJointTrajectory` goal with every arm joint that
+/// moves, and the gripper commands to send on its clock.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ros2Export {
+    /// Frame of the trajectory header (the model's root link).
+    pub frame_id: String,
+    /// Joint names: the left arm's, then the right arm's (arms that never move are left out).
+    pub joint_names: Vec<String>,
+    /// Points of both arms on one time line.
+    pub points: Vec<Point>,
+    /// Gripper commands in time order.
+    pub gripper: Vec<GripperStep>,
+}
+
+/// One gripper command: send a `control_msgs/action/GripperCommand` goal to the arm's gripper
+/// when the trajectory reaches `time_from_start`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GripperStep {
+    /// Time on the trajectory goal's clock.
+    pub time_from_start: Duration,
+    /// `left` or `right`.
+    pub arm: String,
+    /// The `control_msgs/GripperCommand` (`position`: finger opening in m, `max_effort`: 0 =
+    /// the driver's default).
+    pub command: GripperCommand,
+}
+
+/// `control_msgs/GripperCommand`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GripperCommand {
+    /// Finger opening (m; 0 = closed).
+    pub position: f64,
+    /// Largest effort (0: the driver's default).
+    pub max_effort: f64,
+}
+
+/// Position and velocity of `m` at `t`: linear between its points, held before the first and
+/// after the last.
+fn sample(m: &RosJointTrajectory, t: f64) -> (Vec<f64>, Vec<f64>) {
+    let ts: Vec<f64> = m.points.iter().map(|p| p.time_from_start.as_secs()).collect();
+    let k = ts.partition_point(|&x| x <= t + 1e-9);
+    if k == 0 {
+        let p = &m.points[0];
+        return (p.positions.clone(), vec![0.0; p.positions.len()]);
+    }
+    let a = &m.points[k - 1];
+    if k == m.points.len() || (ts[k - 1] - t).abs() <= 1e-9 {
+        let v = if k == m.points.len() && t > ts[k - 1] + 1e-9 {
+            vec![0.0; a.positions.len()]
+        } else {
+            a.velocities.clone()
+        };
+        return (a.positions.clone(), v);
+    }
+    let b = &m.points[k];
+    let s = (t - ts[k - 1]) / (ts[k] - ts[k - 1]);
+    let lerp = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p + s * (q - p)).collect();
+    (lerp(&a.positions, &b.positions), lerp(&a.velocities, &b.velocities))
+}
+
+/// The ROS 2 export of `plan` (`None` when no arm moves). Call it only on a plan that passed
+/// the export checks ([`super::export::export`] does).
+pub fn ros2_export(plan: &Plan) -> Option<Ros2Export> {
+    let arms: Vec<(Arm, RosJointTrajectory)> = [Arm::Left, Arm::Right]
+        .into_iter()
+        .filter_map(|a| arm_message(plan, a).map(|m| (a, m)))
+        .collect();
+    let frame_id = arms.first()?.1.header.frame_id.clone();
+    let mut times: Vec<f64> = arms
+        .iter()
+        .flat_map(|(_, m)| m.points.iter().map(|p| p.time_from_start.as_secs()))
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
+    let points = times
+        .iter()
+        .map(|&t| {
+            let (mut positions, mut velocities) = (Vec::new(), Vec::new());
+            for (_, m) in &arms {
+                let (p, v) = sample(m, t);
+                positions.extend(p);
+                velocities.extend(v);
+            }
+            Point {
+                positions,
+                velocities,
+                accelerations: Vec::new(),
+                effort: Vec::new(),
+                time_from_start: Duration::from_secs(t),
+            }
+        })
+        .collect();
+    let joint_names = arms.iter().flat_map(|(_, m)| m.joint_names.clone()).collect();
+    // A command wherever an arm's opening changes (and its first opening), at the key pose
+    // after which it holds.
+    let mut gripper = Vec::new();
+    for (arm, _) in &arms {
+        let mut last: Option<f64> = None;
+        for tr in plan.arm_trajectories(*arm) {
+            for k in &tr.key_poses {
+                if last.is_none_or(|o| (o - k.opening).abs() > 1e-9) {
+                    gripper.push(GripperStep {
+                        time_from_start: Duration::from_secs(k.t),
+                        arm: arm.name().to_string(),
+                        command: GripperCommand {
+                            position: k.opening,
+                            max_effort: 0.0,
+                        },
+                    });
+                    last = Some(k.opening);
+                }
+            }
+        }
+    }
+    gripper.sort_by(|a: &GripperStep, b: &GripperStep| {
+        a.time_from_start.as_secs().total_cmp(&b.time_from_start.as_secs())
+    });
+    Some(Ros2Export {
+        frame_id,
+        joint_names,
+        points,
+        gripper,
+    })
+}
+
+fn num(x: f64) -> String {
+    let s = format!("{x:?}");
+    if s.contains('e') || s.contains('.') {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+fn list(v: &[f64]) -> String {
+    format!("[{}]", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", "))
+}
+
+fn duration(d: Duration) -> String {
+    format!("{{sec: {}, nanosec: {}}}", d.sec, d.nanosec)
+}
+
+/// The goal as YAML, as `ros2 action send_goal <controller>/follow_joint_trajectory
+/// control_msgs/action/FollowJointTrajectory "$(cat both_arms_goal.yaml)"` takes it.
+pub fn goal_yaml(e: &Ros2Export) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "trajectory:");
+    let _ = writeln!(s, "  header:");
+    let _ = writeln!(s, "    stamp: {{sec: 0, nanosec: 0}}");
+    let _ = writeln!(
+        s,
+        "    frame_id: \"{}\"",
+        e.frame_id.replace('\\', "\\\\").replace('"', "\\\"")
+    );
+    let names: Vec<String> = e.joint_names.iter().map(|n| format!("\"{n}\"")).collect();
+    let _ = writeln!(s, "  joint_names: [{}]", names.join(", "));
+    let _ = writeln!(s, "  points:{}", if e.points.is_empty() { " []" } else { "" });
+    for p in &e.points {
+        let _ = writeln!(s, "    - positions: {}", list(&p.positions));
+        let _ = writeln!(s, "      velocities: {}", list(&p.velocities));
+        let _ = writeln!(s, "      accelerations: []");
+        let _ = writeln!(s, "      effort: []");
+        let _ = writeln!(s, "      time_from_start: {}", duration(p.time_from_start));
+    }
+    // The rest of the goal: no path or goal tolerances beyond the controller's own.
+    let _ = writeln!(s, "multi_dof_trajectory:");
+    let _ = writeln!(s, "  header: {{stamp: {{sec: 0, nanosec: 0}}, frame_id: \"\"}}");
+    let _ = writeln!(s, "  joint_names: []");
+    let _ = writeln!(s, "  points: []");
+    let _ = writeln!(s, "path_tolerance: []");
+    let _ = writeln!(s, "component_path_tolerance: []");
+    let _ = writeln!(s, "goal_tolerance: []");
+    let _ = writeln!(s, "component_goal_tolerance: []");
+    let _ = writeln!(s, "goal_time_tolerance: {{sec: 0, nanosec: 0}}");
+    s
+}
+
+/// The gripper commands as YAML: a list of `{time_from_start, arm, command}`.
+pub fn gripper_yaml(e: &Ros2Export) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# control_msgs/action/GripperCommand goals, to send when the trajectory goal reaches time_from_start"
+    );
+    let _ = writeln!(s, "steps:{}", if e.gripper.is_empty() { " []" } else { "" });
+    for g in &e.gripper {
+        let _ = writeln!(s, "  - time_from_start: {}", duration(g.time_from_start));
+        let _ = writeln!(s, "    arm: {}", g.arm);
+        let _ = writeln!(
+            s,
+            "    command: {{position: {}, max_effort: {}}}",
+            num(g.command.position),
+            num(g.command.max_effort)
+        );
+    }
+    s
+}
