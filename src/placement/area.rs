@@ -71,6 +71,11 @@ pub struct AreaStage {
     pub trace: Vec<BoundPoint>,
 }
 
+/// Per object, the extents of its footprints along `axis` (0: x, 1: y).
+pub fn extents(fps: &[Footprints], axis: usize) -> Vec<Vec<f64>> {
+    fps.iter().map(|o| o.iter().map(|f| f.size[axis]).collect()).collect()
+}
+
 /// Sorted distinct subset sums (at most one value per object) up to `limit`.
 pub fn subset_sums(vals: &[Vec<f64>], limit: f64) -> Vec<f64> {
     let mut sums = vec![0.0f64];
@@ -281,14 +286,7 @@ pub fn solve(
     } = *opts;
     let (cw, cd) = (inst.container.width, inst.container.depth);
     let (items, order) = items(fps);
-    let xv: Vec<Vec<f64>> = fps
-        .iter()
-        .map(|o| o.iter().map(|Footprint { size: f, .. }| f[0]).collect())
-        .collect();
-    let yv: Vec<Vec<f64>> = fps
-        .iter()
-        .map(|o| o.iter().map(|Footprint { size: f, .. }| f[1]).collect())
-        .collect();
+    let (xv, yv) = (extents(fps, 0), extents(fps, 1));
     let widths: Vec<f64> = subset_sums(&xv, cw).into_iter().filter(|&v| v > EPS).collect();
     let depths: Vec<f64> = subset_sums(&yv, cd).into_iter().filter(|&v| v > EPS).collect();
     let area_tol = 1e-9 * (1.0 + cw * cd);

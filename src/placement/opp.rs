@@ -289,21 +289,24 @@ impl<'a> Search<'a> {
         }
         let rem: f64 = self.min_area.iter().sum();
         if self.xphase(0.0, 0, 0.0, rem, 0.0) {
-            return Outcome::Packed(
-                (0..self.items.len())
-                    .map(|i| Pos {
-                        opt: self.opt[i],
-                        x: self.x0[i],
-                        y: self.y0[i],
-                    })
-                    .collect(),
-            );
+            return Outcome::Packed(self.positions());
         }
         if self.stopped {
             Outcome::Stopped
         } else {
             Outcome::Infeasible
         }
+    }
+
+    /// Where every item is now.
+    fn positions(&self) -> Vec<Pos> {
+        (0..self.items.len())
+            .map(|i| Pos {
+                opt: self.opt[i],
+                x: self.x0[i],
+                y: self.y0[i],
+            })
+            .collect()
     }
 
     /// The y-phase alone, for a given x-assignment (per item: footprint index and left edge): a
@@ -317,15 +320,7 @@ impl<'a> Search<'a> {
         self.x0.copy_from_slice(x0);
         self.placed.iter_mut().for_each(|p| *p = true);
         if self.ycheck() {
-            Outcome::Packed(
-                (0..self.items.len())
-                    .map(|i| Pos {
-                        opt: self.opt[i],
-                        x: self.x0[i],
-                        y: self.y0[i],
-                    })
-                    .collect(),
-            )
+            Outcome::Packed(self.positions())
         } else if self.stopped {
             Outcome::Stopped
         } else {

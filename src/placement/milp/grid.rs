@@ -31,15 +31,10 @@ pub(super) fn groups(inst: &Instance, fps: &[Footprints]) -> Vec<Vec<usize>> {
 impl GridModel {
     /// Grid coordinates for width bound `w` and depth bound `d`.
     pub(super) fn axes(fps: &[Footprints], w: f64, d: f64) -> (Vec<f64>, Vec<f64>) {
-        let xv: Vec<Vec<f64>> = fps
-            .iter()
-            .map(|o| o.iter().map(|Footprint { size: f, .. }| f[0]).collect())
-            .collect();
-        let yv: Vec<Vec<f64>> = fps
-            .iter()
-            .map(|o| o.iter().map(|Footprint { size: f, .. }| f[1]).collect())
-            .collect();
-        (subset_sums(&xv, w), subset_sums(&yv, d))
+        (
+            subset_sums(&area::extents(fps, 0), w),
+            subset_sums(&area::extents(fps, 1), d),
+        )
     }
 
     /// Non-zeros of the cover rows the model would have (its size measure: the cover rows
