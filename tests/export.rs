@@ -255,10 +255,10 @@ fn ros2_goal_for_both_arms_with_gripper_commands_parses_as_the_message_definitio
         assert!(dt > 0.0, "time runs forward");
         for j in 0..t.joint_names.len() {
             let v = (w[1].positions[j] - w[0].positions[j]).abs() / dt;
-            // Durations are rounded to the nanosecond: allow that much.
+            // Durations are rounded to the nanosecond: allow what 1 ns of `dt` changes.
             assert!(
-                v <= limits[j % 6] * (1.0 + 1e-6),
-                "joint {j}: {v} rad/s over {}",
+                v <= limits[j % 6] * (1.0 + 1e-9 / dt) + 1e-12,
+                "joint {j}: {v} rad/s over {} (dt {dt})",
                 limits[j % 6]
             );
         }
@@ -302,4 +302,47 @@ fn ros2_goal_for_both_arms_with_gripper_commands_parses_as_the_message_definitio
     }
     let picks = plan.actions.iter().filter(|a| a.kind == "place").count();
     assert!(closes >= picks, "{closes} closing commands for {picks} placed objects");
+}
+
+/// `robot.speed_scale` slows the trajectories to that fraction of the joint limits; the plan
+/// records it, the verifier accepts the plan against the scaled limits, and the exported goal's
+/// finite-difference speeds stay below them.
+#[test]
+fn speed_scale_keeps_trajectories_and_the_export_below_the_scaled_limits() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/instances/paper/exp1_4objects.toml"
+    ))
+    .unwrap()
+    .replacen("[[kinds]]", "[robot]\nspeed_scale = 0.5\n\n[[kinds]]", 1);
+    let inst = common::parse(&text);
+    assert_eq!(inst.robot.speed_scale, 0.5);
+    let plan = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans").plan;
+    let report = pushpack::verify::verify(&inst, &plan);
+    assert!(report.is_valid(), "{report:?}");
+    let robot = plan.robot.as_ref().unwrap();
+    assert_eq!(robot.timing.velocity_scale, 0.5);
+    let urdf = [0.5f64; 6]; // the NEXTAGE Open URDF's arm joint limit, rad/s
+    for (v, u) in robot.velocity_limits.iter().zip(urdf) {
+        assert!((v - 0.5 * u).abs() < 1e-12, "{v}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    export(&plan, ExportFormat::Ros2Goal, dir.path()).unwrap();
+    let goal: FollowJointTrajectoryGoal =
+        serde_norway::from_str(&std::fs::read_to_string(dir.path().join("both_arms_goal.yaml")).unwrap()).unwrap();
+    for w in goal.trajectory.points.windows(2) {
+        let dt = w[1].time_from_start.secs() - w[0].time_from_start.secs();
+        for j in 0..goal.trajectory.joint_names.len() {
+            let v = (w[1].positions[j] - w[0].positions[j]).abs() / dt;
+            assert!(v <= 0.25 * (1.0 + 1e-9 / dt) + 1e-12, "joint {j}: {v} rad/s (dt {dt})");
+        }
+    }
+    // The default plan of the same instance is faster: the scale is not ignored.
+    let base = optimize(
+        &common::load("paper/exp1_4objects.toml"),
+        &PlanOptions::from_instance(&inst),
+    )
+    .unwrap()
+    .plan;
+    assert!(plan.robot_time_s().unwrap() > base.robot_time_s().unwrap() * 1.5);
 }

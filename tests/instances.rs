@@ -78,6 +78,7 @@ const INVALID: &[(&str, &str, &str)] = &[
     ("unreachable_start.toml", "objects[0]", "out of reach"),
     ("wrong_type.toml", "kinds[0].mass", "invalid type"),
     ("zero_bl_orders.toml", "planner.bl_orders", ">= 1"),
+    ("speed_scale_above_one.toml", "robot.speed_scale", "must be in (0, 1]"),
     ("zero_size.toml", "kinds[0].size[2]", "> 0"),
 ];
 
@@ -168,6 +169,7 @@ fn defaults_are_applied() {
     assert_eq!(r.home, NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians)));
     assert!(approx(r.table_z, -0.20));
     assert!(approx(r.transfer_clearance, 0.08));
+    assert!(approx(r.speed_scale, 0.9));
     assert!(approx(inst.container.floor_z, r.table_z));
     assert_eq!(inst.container.yaw, 0.0);
     assert_eq!(inst.settings, pushpack::instance::Settings::default());

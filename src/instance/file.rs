@@ -128,6 +128,10 @@ pub struct RobotFile {
     /// station, a second gripper, an operator); default false.
     #[serde(default)]
     pub regrasp: Option<bool>,
+    /// Fraction of the model's joint velocity limits the trajectories use, in (0, 1]; default
+    /// [`crate::instance::DEFAULT_SPEED_SCALE`].
+    #[serde(default)]
+    pub speed_scale: Option<f64>,
 }
 
 /// Home configuration per arm (radians).

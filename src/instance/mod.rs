@@ -240,7 +240,14 @@ pub struct RobotCell {
     /// The cell can turn objects over between pick and place (else a place that changes an
     /// object's up axis is not executable by a top-down pick).
     pub regrasp: bool,
+    /// Fraction of the model's joint velocity limits the trajectories use, in (0, 1].
+    pub speed_scale: f64,
 }
+
+/// Default of `robot.speed_scale`: trajectories use 90 % of the joint velocity limits (and 81 %
+/// of the acceleration limit), a margin a controller's tracking error and time-stamp rounding
+/// stay within (at 100 % the exported points exceeded the URDF limit by 1e-9 rad/s).
+pub const DEFAULT_SPEED_SCALE: f64 = 0.9;
 
 impl RobotCell {
     /// TCP position of an arm at its home configuration (world frame).

@@ -607,6 +607,13 @@ fn robot_cell(
         Some(v) => l(c.non_negative("robot.transfer_clearance", v)?),
         None => 0.08,
     };
+    let speed_scale = match r.speed_scale {
+        Some(v) if !(v > 0.0 && v <= 1.0) => {
+            return Err(c.err("robot.speed_scale", format!("must be in (0, 1], got {v}")));
+        }
+        Some(v) => v,
+        None => super::DEFAULT_SPEED_SCALE,
+    };
     Ok(RobotCell {
         model,
         model_path,
@@ -616,5 +623,6 @@ fn robot_cell(
         table_z,
         transfer_clearance,
         regrasp: r.regrasp.unwrap_or(false),
+        speed_scale,
     })
 }

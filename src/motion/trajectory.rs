@@ -33,7 +33,7 @@ pub struct TrajectoryOptions {
 impl Default for TrajectoryOptions {
     fn default() -> Self {
         TrajectoryOptions {
-            velocity_scale: 1.0,
+            velocity_scale: crate::instance::DEFAULT_SPEED_SCALE,
             acceleration: DEFAULT_ACCELERATION,
             sample_dt: DEFAULT_SAMPLE_DT,
         }

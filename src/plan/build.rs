@@ -96,8 +96,15 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             }
         })
         .collect();
-    let (robot, trajectories) =
-        crate::motion::plan_trajectories(inst, p, &sr.actions, &crate::motion::TrajectoryOptions::default());
+    let (robot, trajectories) = crate::motion::plan_trajectories(
+        inst,
+        p,
+        &sr.actions,
+        &crate::motion::TrajectoryOptions {
+            velocity_scale: inst.robot.speed_scale,
+            ..Default::default()
+        },
+    );
     let placement_status = placement_status(pr);
     let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
     Plan {
