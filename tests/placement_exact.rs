@@ -132,3 +132,62 @@ fn stopped_search_reports_incumbent_and_bound() {
     // A038666(14) = 1035: the bound never passes the optimum.
     assert!(units(r.lower_bound) <= 1035.0 + 1e-6);
 }
+
+/// `place --solver milp --area-master highs --contact-budget area` runs the HiGHS master with the
+/// old contact budget and reaches the same proven optimum as the default; the exact solver's
+/// options without `--solver milp`, or a bad budget, are bad input (exit 2, the option named).
+#[test]
+fn place_cli_takes_the_exact_solvers_master_and_contact_budget() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_pushpack"))
+            .args(args)
+            .current_dir(root)
+            .output()
+            .expect("run pushpack")
+    };
+    let inst = "instances/paper/exp2_8objects.toml";
+    let json = |args: &[&str]| -> serde_json::Value {
+        let out = run(args);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let default = json(&["place", inst, "--solver", "milp", "--json"]);
+    let highs = json(&[
+        "place",
+        inst,
+        "--solver",
+        "milp",
+        "--area-master",
+        "highs",
+        "--contact-budget",
+        "area",
+        "--json",
+    ]);
+    for v in [&default, &highs] {
+        assert_eq!(v["status"], "optimal", "{v}");
+    }
+    let area = |v: &serde_json::Value| v["objective"]["occupied_area"].as_f64().unwrap();
+    assert!((area(&default) - area(&highs)).abs() < 1e-12);
+    for (args, flag) in [
+        (vec!["place", inst, "--area-master", "highs"], "--area-master"),
+        (
+            vec!["place", inst, "--solver", "milp", "--contact-budget", "soon"],
+            "--contact-budget",
+        ),
+        (
+            vec!["place", inst, "--solver", "milp", "--contact-budget=-1"],
+            "--contact-budget",
+        ),
+    ] {
+        let out = run(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(flag), "{args:?}: {stderr}");
+    }
+}

@@ -52,6 +52,14 @@ enum Cmd {
         /// Print the result as JSON.
         #[arg(long)]
         json: bool,
+        /// Exact solver only: what decides each enclosing box of the area stage, `search` (the
+        /// combinatorial x-phase) or `highs` (a HiGHS MILP master with y-phase cuts).
+        #[arg(long, value_parser = ["search", "highs"])]
+        area_master: Option<String>,
+        /// Exact solver only: time of the contact stage, `rest` (what the limit leaves), `area`
+        /// (as long as the area stage, at least 1 s) or seconds.
+        #[arg(long)]
+        contact_budget: Option<String>,
     },
     /// Plan everything, verify the plan, write plan.json and pictures.
     Plan {
@@ -326,7 +334,19 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             seed,
             time_limit,
             json,
-        } => cmd_place(instance, solver, seed, time_limit, json),
+            area_master,
+            contact_budget,
+        } => cmd_place(
+            instance,
+            solver,
+            seed,
+            time_limit,
+            json,
+            ExactArgs {
+                area_master,
+                contact_budget,
+            },
+        ),
         Cmd::Plan {
             instance,
             out,
@@ -583,27 +603,72 @@ fn cmd_plan(
 }
 
 /// `pushpack place`.
+/// `place` options of the exact solver.
+struct ExactArgs {
+    area_master: Option<String>,
+    contact_budget: Option<String>,
+}
+
+impl ExactArgs {
+    /// The exact solver's settings, or the error naming the option.
+    fn settings(&self, time_limit: f64, seed: u64) -> Result<pushpack::placement::milp::MilpSettings, Error> {
+        use pushpack::placement::milp::{AreaMaster, ContactBudget, MilpSettings};
+        let contact_budget = match self.contact_budget.as_deref() {
+            None | Some("rest") => ContactBudget::Rest,
+            Some("area") => ContactBudget::AreaTime,
+            Some(v) => match v.parse::<f64>() {
+                Ok(s) if s.is_finite() && s >= 0.0 => ContactBudget::Seconds(s),
+                _ => {
+                    return Err(Error::input(
+                        "<command line>",
+                        "--contact-budget",
+                        format!("must be rest, area or a number of seconds >= 0, got {v:?}"),
+                    ))
+                }
+            },
+        };
+        Ok(MilpSettings {
+            time_limit,
+            contact_stage: true,
+            seed,
+            area_master: match self.area_master.as_deref() {
+                Some("highs") => AreaMaster::Highs,
+                _ => AreaMaster::Search,
+            },
+            contact_budget,
+            ..MilpSettings::default()
+        })
+    }
+
+    fn given(&self) -> bool {
+        self.area_master.is_some() || self.contact_budget.is_some()
+    }
+}
+
 fn cmd_place(
     instance: PathBuf,
     solver: String,
     seed: Option<u64>,
     time_limit: Option<f64>,
     json: bool,
+    exact: ExactArgs,
 ) -> Result<i32, Error> {
     let inst = Instance::load(&instance)?;
-    let solver = if solver == "milp" {
-        PlacementSolver::Milp
-    } else {
-        PlacementSolver::Bl
-    };
     let t = positive_time(time_limit, "--time-limit")?.unwrap_or(inst.settings.time_limit);
-    let (r, report) = pushpack::plan::solve_placement_report(
-        &inst,
-        solver,
-        seed.unwrap_or(inst.settings.seed),
-        inst.settings.bl_orders,
-        t,
-    )?;
+    let seed = seed.unwrap_or(inst.settings.seed);
+    let (r, report) = if solver == "milp" {
+        let settings = exact.settings(t, seed)?;
+        pushpack::plan::solve_placement_exact(&inst, inst.settings.bl_orders, &settings, &pushpack::control::Never)
+            .map(|(r, rep)| (r, Some(rep)))?
+    } else if exact.given() {
+        return Err(Error::input(
+            "<command line>",
+            "--area-master/--contact-budget",
+            "only the exact solver has them: add --solver milp",
+        ));
+    } else {
+        pushpack::plan::solve_placement_report(&inst, PlacementSolver::Bl, seed, inst.settings.bl_orders, t)?
+    };
     if json {
         // The result, plus the objective it optimised (lexicographic: area, then
         // contact), the gap, and for the exact solver the bound over time.

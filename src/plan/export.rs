@@ -14,8 +14,9 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// Export format.
+/// Export format (more may come: match with a wildcard arm).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum ExportFormat {
     /// `trajectory_msgs/JointTrajectory` as YAML (`<arm>_arm.yaml`).
     RosYaml,

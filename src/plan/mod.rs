@@ -83,6 +83,26 @@ pub fn solve_placement_with(
     }
 }
 
+/// The exact placement with explicit settings (the area stage's master, the contact budget):
+/// Bottom-Left with `bl_orders` orders for the warm start, then the exact search, both within
+/// `settings.time_limit` and seeded by `settings.seed`.
+pub fn solve_placement_exact(
+    inst: &Instance,
+    bl_orders: usize,
+    settings: &placement::milp::MilpSettings,
+    stop: &dyn Terminator,
+) -> Result<(PlacementResult, placement::milp::MilpReport)> {
+    let clock = TimeLimit::new(settings.time_limit);
+    let limit = Either(&clock, stop);
+    let bl = placement::bl::solve(inst, settings.seed, bl_orders, &limit);
+    let warm = bl.unwrap_or_else(|_| PlacementResult::empty("bl", clock.elapsed()));
+    let rest = placement::milp::MilpSettings {
+        time_limit: (settings.time_limit - clock.elapsed()).max(0.0),
+        ..*settings
+    };
+    placement::milp::solve_report(inst, &warm, &rest, &limit)
+}
+
 /// Which sequencer to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
