@@ -182,7 +182,7 @@ pub fn arm_message(plan: &Plan, arm: Arm) -> Option<RosJointTrajectory> {
     })
 }
 
-fn num(x: f64) -> String {
+pub(super) fn num(x: f64) -> String {
     // Shortest representation that round-trips; YAML and CSV both accept it.
     let s = format!("{x:?}");
     if s.contains('e') || s.contains('.') || s.contains("inf") || s.contains("NaN") {
@@ -192,7 +192,7 @@ fn num(x: f64) -> String {
     }
 }
 
-fn list(v: &[f64]) -> String {
+pub(super) fn list(v: &[f64]) -> String {
     let items: Vec<String> = v.iter().map(|x| num(*x)).collect();
     format!("[{}]", items.join(", "))
 }

@@ -10,7 +10,7 @@
 //! The YAML is written by hand, as for the ROS 1 messages; the tests parse it back into structs
 //! that mirror the message definitions field for field.
 
-use super::export::{arm_message, RosJointTrajectory};
+use super::export::{arm_message, list, num, RosJointTrajectory};
 use crate::geometry::Arm;
 use crate::plan::Plan;
 use serde::{Deserialize, Serialize};
@@ -92,10 +92,9 @@ pub struct GripperCommand {
     pub max_effort: f64,
 }
 
-/// Position and velocity of `m` at `t`: linear between its points, held before the first and
-/// after the last.
-fn sample(m: &RosJointTrajectory, t: f64) -> (Vec<f64>, Vec<f64>) {
-    let ts: Vec<f64> = m.points.iter().map(|p| p.time_from_start.as_secs()).collect();
+/// Position and velocity of `m` at `t` (`ts`: its point times): linear between its points, held
+/// before the first and after the last.
+fn sample(m: &RosJointTrajectory, ts: &[f64], t: f64) -> (Vec<f64>, Vec<f64>) {
     let k = ts.partition_point(|&x| x <= t + 1e-9);
     if k == 0 {
         let p = &m.points[0];
@@ -119,23 +118,24 @@ fn sample(m: &RosJointTrajectory, t: f64) -> (Vec<f64>, Vec<f64>) {
 /// The ROS 2 export of `plan` (`None` when no arm moves). Call it only on a plan that passed
 /// the export checks ([`super::export::export`] does).
 pub fn ros2_export(plan: &Plan) -> Option<Ros2Export> {
-    let arms: Vec<(Arm, RosJointTrajectory)> = [Arm::Left, Arm::Right]
+    let arms: Vec<(Arm, RosJointTrajectory, Vec<f64>)> = [Arm::Left, Arm::Right]
         .into_iter()
-        .filter_map(|a| arm_message(plan, a).map(|m| (a, m)))
+        .filter_map(|a| {
+            let m = arm_message(plan, a)?;
+            let ts = m.points.iter().map(|p| p.time_from_start.as_secs()).collect();
+            Some((a, m, ts))
+        })
         .collect();
     let frame_id = arms.first()?.1.header.frame_id.clone();
-    let mut times: Vec<f64> = arms
-        .iter()
-        .flat_map(|(_, m)| m.points.iter().map(|p| p.time_from_start.as_secs()))
-        .collect();
+    let mut times: Vec<f64> = arms.iter().flat_map(|(_, _, ts)| ts.iter().copied()).collect();
     times.sort_by(f64::total_cmp);
     times.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
     let points = times
         .iter()
         .map(|&t| {
             let (mut positions, mut velocities) = (Vec::new(), Vec::new());
-            for (_, m) in &arms {
-                let (p, v) = sample(m, t);
+            for (_, m, ts) in &arms {
+                let (p, v) = sample(m, ts, t);
                 positions.extend(p);
                 velocities.extend(v);
             }
@@ -148,11 +148,11 @@ pub fn ros2_export(plan: &Plan) -> Option<Ros2Export> {
             }
         })
         .collect();
-    let joint_names = arms.iter().flat_map(|(_, m)| m.joint_names.clone()).collect();
+    let joint_names = arms.iter().flat_map(|(_, m, _)| m.joint_names.clone()).collect();
     // A command wherever an arm's opening changes (and its first opening), at the key pose
     // after which it holds.
     let mut gripper = Vec::new();
-    for (arm, _) in &arms {
+    for (arm, _, _) in &arms {
         let mut last: Option<f64> = None;
         for tr in plan.arm_trajectories(*arm) {
             for k in &tr.key_poses {
@@ -179,19 +179,6 @@ pub fn ros2_export(plan: &Plan) -> Option<Ros2Export> {
         points,
         gripper,
     })
-}
-
-fn num(x: f64) -> String {
-    let s = format!("{x:?}");
-    if s.contains('e') || s.contains('.') {
-        s
-    } else {
-        format!("{s}.0")
-    }
-}
-
-fn list(v: &[f64]) -> String {
-    format!("[{}]", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", "))
 }
 
 fn duration(d: Duration) -> String {
