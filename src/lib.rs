@@ -19,7 +19,8 @@
 //! The folder listing is the pipeline, bottom to top (each imports only modules below it):
 //! [`geometry`], [`error`], [`status`] → [`control`] → [`robot`] (URDF model, FK, IK) →
 //! [`instance`] → [`placement`] → [`actions`] → [`motion`] → [`sequence`] → [`plan`] (the
-//! composer and `plan.json`) → [`verify`](mod@verify), [`render`] → `bench` → `report` (the last two, and
+//! composer and `plan.json`) → [`verify`](mod@verify), `simulate` (the physics replay, with the
+//! `sim` feature), [`render`] → `bench` → `report` (the last two, and
 //! the `pushpack` command, only with the default `cli` feature).
 //!
 //! ```no_run
@@ -48,6 +49,8 @@ pub mod render;
 pub mod report;
 pub mod robot;
 pub mod sequence;
+#[cfg(feature = "sim")]
+pub mod simulate;
 pub mod status;
 pub mod verify;
 

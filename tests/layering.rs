@@ -17,7 +17,7 @@ const LAYERS: &[&[&str]] = &[
     &["motion"],
     &["sequence"],
     &["plan"],
-    &["verify", "render"],
+    &["verify", "render", "simulate"],
     &["bench"],
     &["report"],
     &["cli"],

@@ -204,6 +204,19 @@ pub struct ResultRow {
     /// Robot execution time of the plan: the end of its last joint trajectory (s).
     #[serde(default)]
     pub robot_time_s: Option<f64>,
+    /// Physics replay (planner option `simulate`): every action and box within the push
+    /// tolerances (`pushpack simulate`).
+    #[serde(default)]
+    pub sim_ok: Option<bool>,
+    /// Physics replay: the largest final distance of a box from its target (mm).
+    #[serde(default)]
+    pub sim_position_error_mm: Option<f64>,
+    /// Physics replay: the largest final rotation of a box from its target (degrees).
+    #[serde(default)]
+    pub sim_rotation_deg: Option<f64>,
+    /// Physics replay time (s).
+    #[serde(default)]
+    pub sim_time_s: Option<f64>,
     /// Host name of the machine that ran it.
     #[serde(default)]
     pub host: Option<String>,
@@ -263,6 +276,10 @@ pub const COLUMNS: &[&str] = &[
     "violations",
     "robot_issues",
     "robot_time_s",
+    "sim_ok",
+    "sim_position_error_mm",
+    "sim_rotation_deg",
+    "sim_time_s",
     "host",
     "cpu_model",
     "jobs",
@@ -276,6 +293,7 @@ pub const TIMING_COLUMNS: &[&str] = &[
     "sequence_time_s",
     "plan_time_s",
     "verify_time_s",
+    "sim_time_s",
     "wall_time_s",
 ];
 

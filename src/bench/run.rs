@@ -66,6 +66,10 @@ pub fn base_row(path: &str, inst: &Instance, spec: &PlannerSpec, time_limit: f64
         violations: None,
         robot_issues: None,
         robot_time_s: None,
+        sim_ok: None,
+        sim_position_error_mm: None,
+        sim_rotation_deg: None,
+        sim_time_s: None,
         host: machine().0,
         cpu_model: machine().1,
         jobs: None,
@@ -82,6 +86,23 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
         s.clone()
     } else {
         "panic with a non-text payload".into()
+    }
+}
+
+/// The `sim_*` columns. A replay that cannot run (the plan does not match its instance, which
+/// the verifier has reported already) leaves them empty and says why in `error`.
+fn simulate_row(row: &mut ResultRow, inst: &Instance, plan: &crate::plan::Plan) {
+    let opts = crate::simulate::SimOptions::from_instance(inst);
+    match catch_unwind(AssertUnwindSafe(|| crate::simulate::simulate(inst, plan, &opts))) {
+        Ok(Ok(s)) => {
+            let (pos, rot) = s.worst();
+            row.sim_ok = Some(s.ok);
+            row.sim_position_error_mm = Some(pos);
+            row.sim_rotation_deg = Some(rot);
+            row.sim_time_s = Some(s.wall_s);
+        }
+        Ok(Err(e)) => row.error = Some(format!("simulate: {e}")),
+        Err(p) => row.error = Some(format!("simulate: panic: {}", panic_message(p.as_ref()))),
     }
 }
 
@@ -166,6 +187,9 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
             row.violations = Some(report.violations.len());
             row.robot_issues = Some(report.robot_issues.len());
             row.robot_time_s = plan.trajectories.iter().map(|t| t.t_end).reduce(f64::max);
+            if spec.simulate {
+                simulate_row(&mut row, inst, plan);
+            }
         }
     }
     row.wall_time_s = start.elapsed().as_secs_f64();

@@ -28,6 +28,9 @@ pub struct PlannerSpec {
     /// ([`PlanOptions::packing_only`]). Written right after the sequencer in the canonical
     /// name, so that the ablation variants of a packing-only planner extend its name.
     pub packing_only: bool,
+    /// Replay each plan in the physics engine (`simulate`) and fill the `sim_*` columns. Not an
+    /// ablation: the plan is the same with or without it.
+    pub simulate: bool,
 }
 
 impl PlannerSpec {
@@ -65,6 +68,7 @@ impl PlannerSpec {
             no_multi_push: false,
             placement_alternatives: 0,
             packing_only: false,
+            simulate: false,
         };
         for a in &parts[2..] {
             if let Some(n) = a.strip_prefix("alt") {
@@ -83,9 +87,10 @@ impl PlannerSpec {
                 "packing-only" => &mut spec.packing_only,
                 "no-direct" => &mut spec.no_direct,
                 "no-multi-push" => &mut spec.no_multi_push,
+                "simulate" => &mut spec.simulate,
                 other => {
                     return Err(bad(format!(
-                        "planner {text:?}: option must be packing-only, no-direct, no-multi-push or altN, got {other:?}"
+                        "planner {text:?}: option must be packing-only, no-direct, no-multi-push, simulate or altN, got {other:?}"
                     )))
                 }
             };
@@ -158,6 +163,9 @@ impl fmt::Display for PlannerSpec {
         }
         if self.placement_alternatives > 0 {
             write!(f, "+alt{}", self.placement_alternatives)?;
+        }
+        if self.simulate {
+            write!(f, "+simulate")?;
         }
         Ok(())
     }

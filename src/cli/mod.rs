@@ -6,6 +6,7 @@ use pushpack::error::Error;
 use pushpack::instance::{Instance, MAX_TIME_LIMIT};
 use pushpack::plan::{optimize, optimize_stages, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer};
 use pushpack::render::{render, render_placement};
+use pushpack::simulate::SimOptions;
 use pushpack::verify::verify;
 use std::path::{Path, PathBuf};
 
@@ -90,6 +91,29 @@ enum Cmd {
         /// a plan made with `plan --packing-only`).
         #[arg(long)]
         packing_only: bool,
+        /// Also replay the plan in the physics engine (as `pushpack simulate`); the plan is
+        /// valid only if every box stays within the push tolerances too.
+        #[arg(long)]
+        simulate: bool,
+    },
+    /// Replay a plan in the rapier3d physics engine: every place and push executed by rigid
+    /// fingers along the planned path; per action and box, rotation, drift and final error
+    /// against the instance's push tolerances (exit 1 when any is exceeded).
+    Simulate {
+        /// plan.json.
+        plan: PathBuf,
+        /// Instance file (default: the file the plan names).
+        #[arg(long)]
+        instance: Option<PathBuf>,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Physics time step (s).
+        #[arg(long, default_value_t = 1.0 / 240.0)]
+        dt: f64,
+        /// Pusher speed along a push (m/s).
+        #[arg(long, default_value_t = 0.02)]
+        push_speed: f64,
     },
     /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, or CSV).
     Export {
@@ -359,16 +383,71 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             plan,
             json,
             packing_only,
+            simulate,
         } => {
             let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
             let mut report = verify(&inst, &p);
             report.packing_only |= packing_only;
+            let sim = if simulate {
+                Some(pushpack::simulate::simulate(
+                    &inst,
+                    &p,
+                    &SimOptions::from_instance(&inst),
+                )?)
+            } else {
+                None
+            };
+            if json {
+                let v = match &sim {
+                    None => serde_json::to_value(&report),
+                    Some(s) => serde_json::to_value(serde_json::json!({ "verify": &report, "simulation": s })),
+                };
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&v.expect("serialisable")).expect("serialisable")
+                );
+            } else {
+                println!("{report}");
+                if let Some(s) = &sim {
+                    print!("{s}");
+                }
+            }
+            let sim_ok = sim.as_ref().is_none_or(|s| s.ok);
+            Ok(if report.is_valid() && sim_ok {
+                EXIT_OK
+            } else {
+                EXIT_FAIL
+            })
+        }
+        Cmd::Simulate {
+            plan,
+            instance,
+            json,
+            dt,
+            push_speed,
+        } => {
+            for (flag, v) in [("--dt", dt), ("--push-speed", push_speed)] {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(Error::input(
+                        "<command line>",
+                        flag,
+                        format!("must be a finite number > 0, got {v}"),
+                    ));
+                }
+            }
+            let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
+            let opts = SimOptions {
+                dt,
+                push_speed,
+                ..SimOptions::from_instance(&inst)
+            };
+            let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
             } else {
-                println!("{report}");
+                print!("{report}");
             }
-            Ok(if report.is_valid() { EXIT_OK } else { EXIT_FAIL })
+            Ok(if report.ok { EXIT_OK } else { EXIT_FAIL })
         }
         Cmd::Export { plan, format, out } => {
             let p = Plan::load(&plan)?;

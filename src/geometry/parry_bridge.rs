@@ -4,7 +4,7 @@
 //! Conversions live here and nowhere else.
 
 use super::{Box3, EPS};
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use parry3d::math::{Pose, Rotation, Vector};
 use parry3d::shape::Cuboid;
 
@@ -18,6 +18,15 @@ pub fn to_parry_pose(iso: &Isometry3<f64>) -> Pose {
     let q = iso.rotation.quaternion();
     let rot = Rotation::from_xyzw(q.i, q.j, q.k, q.w);
     Pose::from_parts(to_parry_vec(&iso.translation.vector), rot)
+}
+
+/// parry (and rapier) pose → nalgebra isometry.
+pub fn from_parry_pose(p: &Pose) -> Isometry3<f64> {
+    let (t, q) = (p.translation, p.rotation);
+    Isometry3::from_parts(
+        Translation3::new(t.x, t.y, t.z),
+        UnitQuaternion::from_quaternion(Quaternion::new(q.w, q.x, q.y, q.z)),
+    )
 }
 
 /// Whether two axis-aligned boxes intersect by more than [`EPS`] in every axis.

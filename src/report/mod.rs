@@ -254,6 +254,43 @@ pub fn ablation_groups(rows: &[ResultRow]) -> Vec<(String, Vec<String>)> {
     out
 }
 
+/// Per planner, how the plans of runs with the `simulate` option fared in the physics replay
+/// (empty when no row was simulated).
+fn simulation_table(rows: &[ResultRow], names: &[String]) -> String {
+    let mut s = String::new();
+    if rows.iter().all(|r| r.sim_ok.is_none()) {
+        return s;
+    }
+    let _ = writeln!(s, "\n## Physics replay\n");
+    let _ = writeln!(
+        s,
+        "Plans of runs with the `simulate` option, replayed in rapier3d (`pushpack simulate`, docs/simulate.md): \
+*within tolerance*: every action and every box within the instance's push tolerances; the worst box of each plan: \
+its final distance from its target and its rotation.\n"
+    );
+    s += "| planner | simulated | within tolerance | median worst error (mm) | max worst error (mm) | median worst rotation (°) |\n";
+    s += "|---|---:|---:|---:|---:|---:|\n";
+    for p in names {
+        let g: Vec<&ResultRow> = rows.iter().filter(|r| &r.planner == p && r.sim_ok.is_some()).collect();
+        if g.is_empty() {
+            continue;
+        }
+        let ok = g.iter().filter(|r| r.sim_ok == Some(true)).count();
+        let pos: Vec<f64> = g.iter().filter_map(|r| r.sim_position_error_mm).collect();
+        let rot: Vec<f64> = g.iter().filter_map(|r| r.sim_rotation_deg).collect();
+        let _ = writeln!(
+            s,
+            "| {p} | {} | {} | {} | {} | {} |",
+            g.len(),
+            pct(ok, g.len()),
+            opt(median(&pos), |x| format!("{x:.2}")),
+            opt(pos.iter().copied().reduce(f64::max), |x| format!("{x:.2}")),
+            opt(median(&rot), |x| format!("{x:.2}")),
+        );
+    }
+    s
+}
+
 /// The markdown summary of merged rows.
 pub fn summary_markdown(m: &Merged) -> String {
     let rows = &m.rows;
@@ -314,6 +351,7 @@ placement and sequence stages, the joint trajectories (motion) and the verifier;
             }
         }
     }
+    s += &simulation_table(rows, &names);
     if names.len() > 1 && names.len() <= 63 {
         let prof = performance_profile(rows, &names);
         let taus = [1.0, 1.5, 2.0, 4.0, 10.0, 100.0];
@@ -591,5 +629,27 @@ mod tests {
         let g = group_stats(&refs, &best_per_instance(&rows), &common);
         assert_eq!((g.solved, g.common), (2, 1));
         assert_eq!(g.len_vs_best, Some(1.0));
+    }
+
+    #[test]
+    fn the_physics_table_counts_simulated_runs_only() {
+        let sim = |inst: &str, ok: Option<bool>, mm: f64| {
+            let mut r = row(inst, "bl+astar+simulate", Some(5));
+            r.sim_ok = ok;
+            r.sim_position_error_mm = ok.map(|_| mm);
+            r.sim_rotation_deg = ok.map(|_| 0.5);
+            r
+        };
+        let rows = vec![
+            sim("s/a", Some(true), 0.2),
+            sim("s/b", Some(false), 3.0),
+            sim("s/c", Some(true), 0.4),
+            sim("s/d", None, 0.0),
+        ];
+        let names = planners(&rows);
+        let t = simulation_table(&rows, &names);
+        assert!(t.contains("| bl+astar+simulate | 3 | 67 % | 0.40 | 3.00 | 0.50 |"), "{t}");
+        let plain = vec![row("s/a", "bl+astar", Some(5))];
+        assert_eq!(simulation_table(&plain, &planners(&plain)), "");
     }
 }
