@@ -16,15 +16,18 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     let commit = git(&["rev-parse", "--short=12", "HEAD"]).unwrap_or_else(|| "unknown".into());
     // Rebuild when HEAD moves: HEAD itself (branch switch), the branch's ref file (new commit),
-    // and packed-refs (after gc). `--git-path` resolves these inside worktrees too.
-    for p in ["HEAD", "packed-refs"] {
-        if let Some(path) = git(&["rev-parse", "--git-path", p]) {
-            println!("cargo:rerun-if-changed={path}");
-        }
-    }
-    if let Some(r) = git(&["symbolic-ref", "-q", "HEAD"]) {
-        if let Some(path) = git(&["rev-parse", "--git-path", &r]) {
-            println!("cargo:rerun-if-changed={path}");
+    // and packed-refs (after gc). `--git-path` resolves these inside worktrees too. Only files
+    // that exist are watched: Cargo takes a missing one as changed on every build, which
+    // rebuilt the crate each time in a repository without packed-refs. When gc packs the
+    // branch's ref, its loose file disappears (a change), and the next build watches
+    // packed-refs instead.
+    let mut watch = vec!["HEAD".to_string(), "packed-refs".to_string()];
+    watch.extend(git(&["symbolic-ref", "-q", "HEAD"]));
+    for p in watch {
+        if let Some(path) = git(&["rev-parse", "--git-path", &p]) {
+            if std::path::Path::new(&path).exists() {
+                println!("cargo:rerun-if-changed={path}");
+            }
         }
     }
     println!("cargo:rustc-env=PUSHPACK_GIT_COMMIT={commit}");
