@@ -34,25 +34,25 @@ fn single_push(offset: f64) -> (f64, f64) {
 #[test]
 fn a_centred_push_goes_straight() {
     let (rot, drift) = single_push(0.0);
-    assert!(rot.to_degrees() < 0.2, "turned {:.3}°", rot.to_degrees());
-    assert!(drift < 5e-5, "drifted {:.4} mm", drift * 1e3);
+    assert!(rot.to_degrees() < 0.05, "turned {:.3}°", rot.to_degrees());
+    assert!(drift < 2e-5, "drifted {:.4} mm", drift * 1e3);
 }
 
 #[test]
 fn a_push_turns_the_box_only_when_its_line_of_action_leaves_the_finger() {
     // The closed form's margin is finger/2 − |offset| (10 mm − |offset|): positive = sticks.
-    for (offset, sticks) in [(0.005, true), (0.008, true), (0.013, false), (0.016, false)] {
+    for (offset, sticks) in [(0.005, true), (0.009, true), (0.011, false), (0.016, false)] {
         assert_eq!(single_box_margin(0.06, 0.02, offset) > 0.0, sticks);
         let (rot, _) = single_push(offset);
         if sticks {
             assert!(
-                rot.to_degrees() < 0.5,
+                rot.to_degrees() < 0.05,
                 "offset {offset}: turned {:.3}°",
                 rot.to_degrees()
             );
         } else {
             assert!(
-                rot.to_degrees() > 3.0,
+                rot.to_degrees() > 1.0,
                 "offset {offset}: turned only {:.3}°",
                 rot.to_degrees()
             );
@@ -64,7 +64,7 @@ fn a_push_turns_the_box_only_when_its_line_of_action_leaves_the_finger() {
 fn a_tall_box_tips_above_the_closed_form_height_and_slides_below_it() {
     // 2 cm deep along the push, 10 cm tall; μ_floor 0.8, μ_finger 0.3.
     let th = topple_height(0.02, 0.8, 0.3);
-    for (factor, tips) in [(0.5, false), (0.8, false), (1.25, true), (1.6, true)] {
+    for (factor, tips) in [(0.5, false), (0.85, false), (1.15, true), (1.6, true)] {
         let b = FloorBox {
             centre: [0.1, 0.0],
             size: [0.02, 0.06, 0.10],
@@ -81,7 +81,7 @@ fn a_tall_box_tips_above_the_closed_form_height_and_slides_below_it() {
         if tips {
             assert!(tilt > 45.0, "fingertip at {factor} × {th:.4} m: tilted only {tilt:.2}°");
         } else {
-            assert!(tilt < 1.0, "fingertip at {factor} × {th:.4} m: tilted {tilt:.2}°");
+            assert!(tilt < 0.1, "fingertip at {factor} × {th:.4} m: tilted {tilt:.2}°");
         }
     }
 }
@@ -114,7 +114,7 @@ fn two_offset_boxes_slip_apart_below_the_friction_threshold_and_stay_together_ab
         if slips {
             assert!(slip > 3e-3, "μ = {mu:.3}: slipped only {:.2} mm", slip * 1e3);
         } else {
-            assert!(slip < 5e-4, "μ = {mu:.3}: slipped {:.2} mm", slip * 1e3);
+            assert!(slip < 1e-4, "μ = {mu:.3}: slipped {:.2} mm", slip * 1e3);
         }
     }
 }
@@ -143,7 +143,11 @@ fn every_bundled_plan_ends_with_every_box_at_its_target() {
         assert_eq!(s.boxes.len(), inst.objects.len());
         for b in &s.boxes {
             assert!(b.placed && b.ok, "{rel}: {b:?}\n{s}");
+            // Far inside the 1 mm tolerance: contacts stiff enough that a pushed line does
+            // not stay compressed (docs/simulate.md, "Settings").
+            assert!(b.position_error_mm < 0.1, "{rel}: {b:?}\n{s}");
         }
+        assert!(s.ok, "{rel}:\n{s}");
     }
 }
 

@@ -108,12 +108,15 @@ enum Cmd {
         /// Print the report as JSON.
         #[arg(long)]
         json: bool,
-        /// Physics time step (s).
-        #[arg(long, default_value_t = 1.0 / 240.0)]
-        dt: f64,
-        /// Pusher speed along a push (m/s).
-        #[arg(long, default_value_t = 0.02)]
-        push_speed: f64,
+        /// Physics time step (s; default 1/240).
+        #[arg(long)]
+        dt: Option<f64>,
+        /// Pusher speed along a push (m/s; default 0.02).
+        #[arg(long)]
+        push_speed: Option<f64>,
+        /// Contact stiffness as a natural frequency (Hz; default 150).
+        #[arg(long)]
+        contact_hz: Option<f64>,
     },
     /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, or CSV).
     Export {
@@ -425,9 +428,11 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             json,
             dt,
             push_speed,
+            contact_hz,
         } => {
-            for (flag, v) in [("--dt", dt), ("--push-speed", push_speed)] {
-                if !(v.is_finite() && v > 0.0) {
+            let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
+            for (flag, v) in flags {
+                if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
                     return Err(Error::input(
                         "<command line>",
                         flag,
@@ -436,10 +441,12 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 }
             }
             let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
+            let d = SimOptions::from_instance(&inst);
             let opts = SimOptions {
-                dt,
-                push_speed,
-                ..SimOptions::from_instance(&inst)
+                dt: dt.unwrap_or(d.dt),
+                push_speed: push_speed.unwrap_or(d.push_speed),
+                contact_hz: contact_hz.unwrap_or(d.contact_hz),
+                ..d
             };
             let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
             if json {

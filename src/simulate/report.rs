@@ -82,6 +82,8 @@ pub struct BoxSim {
     pub placed: bool,
     /// Horizontal distance of its centre from the target's (mm).
     pub position_error_mm: f64,
+    /// That offset along C's x and y (mm, signed: where the box is minus where it should be).
+    pub offset_mm: [f64; 2],
     /// Height of its centre above the target's (mm): far from 0 when it fell over.
     pub height_error_mm: f64,
     /// Rotation about the vertical from the target's orientation (degrees, signed).
@@ -103,6 +105,7 @@ impl BoxSim {
             object,
             placed: true,
             position_error_mm: horizontal * 1e3,
+            offset_mm: [d.x * 1e3, d.y * 1e3],
             height_error_mm: d.z * 1e3,
             yaw_error_deg: yaw.to_degrees(),
             rotation_deg: rotation.to_degrees(),
@@ -115,6 +118,7 @@ impl BoxSim {
             object,
             placed: false,
             position_error_mm: f64::NAN,
+            offset_mm: [f64::NAN; 2],
             height_error_mm: f64::NAN,
             yaw_error_deg: f64::NAN,
             rotation_deg: f64::NAN,
@@ -213,9 +217,11 @@ impl fmt::Display for SimReport {
             if b.placed {
                 writeln!(
                     f,
-                    "  box {:<10} {:.3} mm from target, height {:+.3} mm, yaw {:+.3}°, rotation {:.3}°{}",
+                    "  box {:<10} {:.3} mm from target (x {:+.3}, y {:+.3}), height {:+.3} mm, yaw {:+.3}°, rotation {:.3}°{}",
                     b.object,
                     b.position_error_mm,
+                    b.offset_mm[0],
+                    b.offset_mm[1],
                     b.height_error_mm,
                     b.yaw_error_deg,
                     b.rotation_deg,

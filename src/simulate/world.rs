@@ -121,6 +121,8 @@ impl World {
         // box decides whether it turns, which the simplified (per-manifold) model blurs.
         ip.friction_model = FrictionModel::Coulomb;
         ip.contact_recycling = false;
+        ip.contact_softness.natural_frequency = opts.contact_hz;
+        ip.static_contact_softness.natural_frequency = 2.0 * opts.contact_hz;
         world.insert(
             RigidBodyBuilder::fixed().translation(to_parry_vec(&Vector3::new(0.0, 0.0, -0.05))),
             ColliderBuilder::cuboid(10.0, 10.0, 0.05).user_data(Role::Floor.encode()),
@@ -166,7 +168,8 @@ impl World {
     /// neighbour exactly (zero clearance); a real box then slides down past it with no normal
     /// force between them, but a rigid-body solver keeps a speculative contact there whose
     /// friction, driven by an infinitely heavy kinematic body, drags the neighbour into the
-    /// (soft) floor by a millimetre. Overlaps are the verifier's to find, not the replay's.
+    /// (soft) floor and turned them (exp2's Bottom-Left plan: a box tipped over without this
+    /// rule). Overlaps are the verifier's to find, not the replay's.
     pub fn add_object(&mut self, i: usize, half: Vector3<f64>, mass: f64, centre: Vector3<f64>) -> Kinematic {
         let (handle, _) = self.world.insert(
             RigidBodyBuilder::kinematic_position_based()
