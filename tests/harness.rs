@@ -174,6 +174,11 @@ fn interrupted_batch_resumes_without_repeating_or_losing_rows_and_shards_merge()
     );
     assert!(md.contains("| tiny | 3 | bl+paper+packing-only | 3 | 100 % |"), "{md}");
     assert!(md.contains("Table II"), "{md}");
+    assert!(md.contains("## Confidence intervals"), "{md}");
+    let per = std::fs::read_to_string(rep.join("per_instance.md")).unwrap();
+    assert_eq!(per.lines().filter(|l| l.starts_with("| tiny |")).count(), 3, "{per}");
+    // No planner proved anything optimal: no scatter against an optimum.
+    assert!(!rep.join("scatter.svg").exists());
     for f in [
         "time_vs_objects.svg",
         "cactus.svg",

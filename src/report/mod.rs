@@ -2,6 +2,7 @@
 //! markdown (`summary.md`), and draw SVG plots (`report::plots`).
 
 pub mod plots;
+pub mod tables;
 
 use crate::bench::row::{read_jsonl, result_files, ResultRow, RunStatus};
 use crate::error::{Error, Result};
@@ -55,7 +56,8 @@ pub fn median(v: &[f64]) -> Option<f64> {
     })
 }
 
-fn mean(v: &[f64]) -> Option<f64> {
+/// Mean of a sample; `None` when empty.
+pub fn mean(v: &[f64]) -> Option<f64> {
     (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
@@ -177,7 +179,7 @@ fn opt(v: Option<f64>, f: impl Fn(f64) -> String) -> String {
     v.map_or("–".into(), f)
 }
 
-fn pct(n: usize, d: usize) -> String {
+pub(crate) fn pct(n: usize, d: usize) -> String {
     if d == 0 {
         "–".into()
     } else {
@@ -352,6 +354,7 @@ placement and sequence stages, the joint trajectories (motion) and the verifier;
         }
     }
     s += &simulation_table(rows, &names);
+    s += &tables::confidence_markdown(rows, &names);
     if names.len() > 1 && names.len() <= 63 {
         let prof = performance_profile(rows, &names);
         let taus = [1.0, 1.5, 2.0, 4.0, 10.0, 100.0];
@@ -536,6 +539,10 @@ pub fn write_report(results: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>> {
         Ok(p)
     };
     let mut files = vec![write("summary.md", summary_markdown(&m))?];
+    files.push(write(
+        "per_instance.md",
+        tables::per_instance_markdown(&m.rows, &planners(&m.rows)),
+    )?);
     let merged: String = m.rows.iter().map(|r| r.to_json_line() + "\n").collect();
     files.push(write("merged.jsonl", merged)?);
     files.extend(plots::write_plots(&m.rows, out)?);
@@ -648,7 +655,10 @@ mod tests {
         ];
         let names = planners(&rows);
         let t = simulation_table(&rows, &names);
-        assert!(t.contains("| bl+astar+simulate | 3 | 67 % | 0.40 | 3.00 | 0.50 |"), "{t}");
+        assert!(
+            t.contains("| bl+astar+simulate | 3 | 67 % | 0.40 | 3.00 | 0.50 |"),
+            "{t}"
+        );
         let plain = vec![row("s/a", "bl+astar", Some(5))];
         assert_eq!(simulation_table(&plain, &planners(&plain)), "");
     }

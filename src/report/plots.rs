@@ -67,6 +67,11 @@ pub fn write_plots(rows: &[ResultRow], out: &Path) -> Result<Vec<PathBuf>> {
     let p = out.join("ratios.svg");
     ratios(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
     files.push(p);
+    if let Some(reference) = optimal_reference(rows, &names) {
+        let p = out.join("scatter.svg");
+        scatter(rows, &names, &reference, &p).map_err(|e| draw_err(&p, e))?;
+        files.push(p);
+    }
     for (base, variants) in ablation_groups(rows) {
         let p = out.join(format!("table2_{}.svg", base.replace('+', "_")));
         table2(rows, &base, &variants, &p).map_err(|e| draw_err(&p, e))?;
@@ -437,6 +442,104 @@ fn table2(rows: &[ResultRow], base: &str, variants: &[String], path: &Path) -> D
             .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 18, y + 6)], c.filled()));
     }
     draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+    root.present()?;
+    Ok(())
+}
+
+/// The planner with the most proven-optimal runs, when some other planner ran too: the
+/// scatter's reference.
+fn optimal_reference(rows: &[ResultRow], names: &[String]) -> Option<String> {
+    if names.len() < 2 {
+        return None;
+    }
+    names
+        .iter()
+        .map(|p| (rows.iter().filter(|r| &r.planner == p && r.proven()).count(), p))
+        .filter(|(n, _)| *n > 0)
+        .max_by_key(|(n, _)| *n)
+        .map(|(_, p)| p.clone())
+}
+
+/// A planner's index and its (reference, planner) points of area and of actions.
+type ScatterSeries = (usize, Vec<(f64, f64)>, Vec<(f64, f64)>);
+
+/// Each planner against the reference, instance by instance, on the instances where the
+/// reference's plan is proven optimal and the planner has a verified plan: occupied area and
+/// number of actions, with the diagonal (equal) drawn. Points above it are worse.
+fn scatter(rows: &[ResultRow], names: &[String], reference: &str, path: &Path) -> DrawResult {
+    let refv: HashMap<&str, (f64, f64)> = rows
+        .iter()
+        .filter(|r| r.planner == reference && r.proven())
+        .filter_map(|r| Some((r.instance.as_str(), (r.occupied_area? * 1e4, r.seq_len? as f64))))
+        .collect();
+    let mut data: Vec<ScatterSeries> = Vec::new();
+    for (k, p) in names.iter().enumerate().filter(|(_, p)| p.as_str() != reference) {
+        let (mut a, mut l) = (Vec::new(), Vec::new());
+        for r in rows.iter().filter(|r| &r.planner == p && r.solved()) {
+            if let (Some(&(ra, rl)), Some(x), Some(n)) = (refv.get(r.instance.as_str()), r.occupied_area, r.seq_len) {
+                a.push((ra, x * 1e4));
+                l.push((rl, n as f64));
+            }
+        }
+        data.push((k, a, l));
+    }
+    let root = SVGBackend::new(path, (SIZE.0 * 3 / 2, SIZE.1)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(
+        &format!(
+            "Each planner against the proven-optimal plan of {reference} (area first, then actions), per instance"
+        ),
+        (FONT, 24),
+    )?;
+    let panels = root.split_evenly((1, 2));
+    for (pi, (panel, what)) in panels
+        .iter()
+        .zip(["occupied area (cm²)", "number of actions"])
+        .enumerate()
+    {
+        let pts = |d: &ScatterSeries| if pi == 0 { d.1.clone() } else { d.2.clone() };
+        let all: Vec<f64> = data
+            .iter()
+            .flat_map(|d| pts(d).into_iter().flat_map(|(x, y)| [x, y]))
+            .collect();
+        let lo = all.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
+        let pad = ((hi - lo) * 0.06).max(if pi == 0 { 1.0 } else { 0.5 });
+        let range = (lo - pad)..(hi + pad);
+        let mut chart = ChartBuilder::on(panel)
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(70)
+            .build_cartesian_2d(range.clone(), range.clone())?;
+        house_style(&mut chart.configure_mesh())
+            .x_desc(format!("{what}: {reference} (proven optimal)"))
+            .y_desc(format!("{what}: other planner"))
+            .x_label_formatter(&|x| tick_label(*x))
+            .y_label_formatter(&|y| tick_label(*y))
+            .draw()?;
+        chart.draw_series(LineSeries::new(
+            vec![(range.start, range.start), (range.end, range.end)],
+            BLACK.mix(0.4).stroke_width(1),
+        ))?;
+        for d in &data {
+            let v = pts(d);
+            if v.is_empty() {
+                continue;
+            }
+            let (k, n) = (d.0, v.len());
+            let c = color(k);
+            // Later planners drawn smaller, so that points on top of each other stay visible.
+            let size = 4 + 2 * (names.len().saturating_sub(k + 1).min(3)) as i32;
+            chart
+                .draw_series(v.into_iter().map(move |p| Circle::new(p, size, c.stroke_width(2))))?
+                .label(format!("{} (n = {n})", names[k]))
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.stroke_width(2)));
+        }
+        if data.iter().any(|d| !pts(d).is_empty()) {
+            draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+        }
+    }
     root.present()?;
     Ok(())
 }
