@@ -15,7 +15,9 @@
 #   PUSHPACK_BIN         the pushpack binary (default target/release/pushpack); build it first
 #   PUSHPACK_INSTANCES   instance files or directories, split at spaces, globs expanded
 #                        (default "instances/random/n*"); arguments to the script replace it
-#   PUSHPACK_PLANNERS    planner specs (default bl+paper,bl+astar,milp+astar)
+#   PUSHPACK_PLANNERS    planner specs (default bl+paper+packing-only,bl+astar+packing-only,
+#                        milp+astar+packing-only: the random sets allow every orientation, so
+#                        their plans are judged as packings; docs/benchmarks.md)
 #   PUSHPACK_TIME_LIMIT  seconds per run (default 60)
 #   PUSHPACK_OUT         result directory, shared by all tasks (default out/bench)
 #   PUSHPACK_JOBS        concurrent runs per task (default $SLURM_CPUS_PER_TASK, else 1)
@@ -55,7 +57,7 @@ if [ -n "${PUSHPACK_DIR:-}" ]; then
 fi
 
 bin=${PUSHPACK_BIN:-target/release/pushpack}
-planners=${PUSHPACK_PLANNERS:-bl+paper,bl+astar,milp+astar}
+planners=${PUSHPACK_PLANNERS:-bl+paper+packing-only,bl+astar+packing-only,milp+astar+packing-only}
 time_limit=${PUSHPACK_TIME_LIMIT:-60}
 out=${PUSHPACK_OUT:-out/bench}
 jobs=${PUSHPACK_JOBS:-${SLURM_CPUS_PER_TASK:-1}}

@@ -21,7 +21,7 @@ if [ -n "${PUSHPACK_DIR:-}" ]; then
   cd "$PUSHPACK_DIR" || die "PUSHPACK_DIR=$PUSHPACK_DIR: no such directory"
 fi
 bin=${PUSHPACK_BIN:-target/release/pushpack}
-planners=${PUSHPACK_PLANNERS:-bl+paper,bl+astar,milp+astar}
+planners=${PUSHPACK_PLANNERS:-bl+paper+packing-only,bl+astar+packing-only,milp+astar+packing-only}
 out=${PUSHPACK_OUT:-out/bench}
 report=${PUSHPACK_REPORT:-$out/report}
 if [ $# -gt 0 ]; then
