@@ -1,6 +1,8 @@
 //! Benchmark reports: merge result rows (shards, reruns), summarise them per set and planner in
-//! markdown (`summary.md`), and draw SVG plots (`report::plots`).
+//! markdown (`summary.md`, `per_instance.md`), and draw plots (`report::plots`) as SVG, PNG
+//! and PDF.
 
+mod convert;
 pub mod plots;
 pub mod tables;
 
@@ -545,7 +547,11 @@ pub fn write_report(results: &[PathBuf], out: &Path) -> Result<Vec<PathBuf>> {
     )?);
     let merged: String = m.rows.iter().map(|r| r.to_json_line() + "\n").collect();
     files.push(write("merged.jsonl", merged)?);
-    files.extend(plots::write_plots(&m.rows, out)?);
+    let svgs = plots::write_plots(&m.rows, out)?;
+    for svg in &svgs {
+        files.extend(convert::png_and_pdf(svg)?);
+    }
+    files.extend(svgs);
     Ok(files)
 }
 
