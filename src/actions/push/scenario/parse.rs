@@ -428,7 +428,6 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             max_rotation,
             max_drift,
             tol: min_margin,
-            ..CheckOptions::default()
         },
     })
 }
