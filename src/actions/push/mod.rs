@@ -50,12 +50,14 @@ pub const CONE_SHRINK: f64 = 0.05;
 pub const MARGIN_TOL: f64 = crate::geometry::EPS;
 
 /// Default largest rotation (rad) a box may make over a phase of known, finite travel whose
-/// line of action leaves its contact (1°: the planner's release and target tolerances are a few
-/// tenths of a millimetre over a box's half width, which a degree already uses).
-pub const MAX_ROTATION: f64 = std::f64::consts::PI / 180.0;
+/// line of action leaves its contact: the instance default
+/// [`crate::instance::DEFAULT_MAX_PUSH_ROTATION`] (1°), defined there because instances sit below
+/// the push model.
+pub const MAX_ROTATION: f64 = crate::instance::DEFAULT_MAX_PUSH_ROTATION;
 
-/// Default largest lateral drift (m) of a box's centre over such a phase: 1 mm.
-pub const MAX_DRIFT: f64 = 1e-3;
+/// Default largest lateral drift (m) of a box's centre over such a phase:
+/// [`crate::instance::DEFAULT_MAX_PUSH_DRIFT`] (1 mm).
+pub const MAX_DRIFT: f64 = crate::instance::DEFAULT_MAX_PUSH_DRIFT;
 
 /// Lateral intervals and friction weights of a line, front to back (the planner's 2-D view:
 /// boxes axis-aligned, pushed perpendicular to their faces).
