@@ -7,7 +7,7 @@ use pushpack::actions::push::{self, check_scenario, load_scenario, parse_scenari
 use pushpack::geometry::{BodyAxis, Orientation, Rect};
 use pushpack::instance::Instance;
 use pushpack::placement::{Placement, PlacementResult, PlacementStatus, Target};
-use pushpack::plan::{sequence_placement, PlanOptions};
+use pushpack::plan::{sequence_placement, PlanOptions, Sequencer};
 use pushpack::verify::verify;
 use serde_json::{json, Value};
 
@@ -442,8 +442,13 @@ fn needs_the_rule_placement(inst: &Instance) -> PlacementResult {
 }
 
 fn plan_packing(inst: &Instance) -> pushpack::plan::PlanOutcome {
+    plan_packing_with(inst, Sequencer::Astar)
+}
+
+fn plan_packing_with(inst: &Instance, sequencer: Sequencer) -> pushpack::plan::PlanOutcome {
     let mut opts = PlanOptions::from_instance(inst);
     opts.packing_only = true;
+    opts.sequencer = sequencer;
     let out = sequence_placement(inst, &opts, needs_the_rule_placement(inst)).unwrap();
     let r = verify(inst, &out.plan);
     assert!(r.is_valid(), "{r}");
@@ -483,4 +488,17 @@ fn a_plan_that_needs_the_travel_rule_is_produced_and_verified() {
         "{:#?}",
         without.plan.actions
     );
+
+    // The paper's sequencer releases the line staggered by one `min_offset` and checks it with
+    // that gap: it pushes the pair together too, with the same travel phase.
+    let paper = plan_packing_with(&inst, Sequencer::Paper);
+    let pair = paper
+        .plan
+        .actions
+        .iter()
+        .find(|e| e.kind == "push" && e.objects == ["f", "b"])
+        .unwrap_or_else(|| panic!("paper: f and b are pushed together: {:#?}", paper.plan.actions));
+    assert_eq!(pair.travel_phase.as_ref(), Some(t));
+    let paper_strict = plan_packing_with(&strict, Sequencer::Paper);
+    assert!(paper_strict.plan.actions.iter().all(|e| e.travel_phase.is_none()));
 }
