@@ -79,6 +79,12 @@ const INVALID: &[(&str, &str, &str)] = &[
     ("wrong_type.toml", "kinds[0].mass", "invalid type"),
     ("zero_bl_orders.toml", "planner.bl_orders", ">= 1"),
     ("speed_scale_above_one.toml", "robot.speed_scale", "must be in (0, 1]"),
+    (
+        "push_rotation_too_large.toml",
+        "planner.max_push_rotation_deg",
+        "at most 5 degrees",
+    ),
+    ("negative_push_drift.toml", "planner.max_push_drift", "must be > 0"),
     ("zero_size.toml", "kinds[0].size[2]", "> 0"),
 ];
 
@@ -540,6 +546,8 @@ fn assert_same_geometry(a: &Instance, b: &Instance) {
     assert_eq!(ra.arms, rb.arms);
     let (sa, sb) = (&a.settings, &b.settings);
     assert!(approx(sa.min_push_margin, sb.min_push_margin));
+    assert!(approx(sa.max_push_drift, sb.max_push_drift));
+    assert_eq!(sa.max_push_rotation, sb.max_push_rotation, "angles are never scaled");
     assert_eq!(sa.time_limit, sb.time_limit, "seconds are never scaled");
     assert_eq!(
         (sa.seed, sa.bl_orders, sa.max_nodes, sa.no_direct, sa.no_multi_push),
@@ -591,6 +599,8 @@ transfer_clearance = {tc}
 [planner]
 time_limit = 12.5
 min_push_margin = {pm}
+max_push_drift = {pd}
+max_push_rotation_deg = 2.5
 [[kinds]]
 name = "k"
 size = [{s0}, {s1}, {s2}]
@@ -628,6 +638,7 @@ y = {y2}
         tbz = l(-0.2),
         tc = l(0.07),
         pm = l(0.003),
+        pd = l(0.0015),
         s0 = l(0.055),
         s1 = l(0.045),
         s2 = l(0.035),
@@ -651,6 +662,12 @@ fn units_scale_every_length_and_nothing_else() {
     assert_eq!(mm.objects[0].table.yaw, 0.7);
     assert_eq!(mm.kinds[0].mass, 0.125);
     assert_eq!(mm.settings.time_limit, 12.5);
+    assert!(approx(mm.settings.max_push_drift, 0.0015));
+    assert!(approx(mm.settings.max_push_rotation, 2.5f64.to_radians()));
+    // Omitted, the travel tolerances are the push model's defaults.
+    let plain = Instance::load(root().join("instances/examples/two_boxes.toml")).unwrap();
+    assert_eq!(plain.settings.max_push_rotation, pushpack::actions::push::MAX_ROTATION);
+    assert_eq!(plain.settings.max_push_drift, pushpack::actions::push::MAX_DRIFT);
     // No `units` at all means metres.
     let none = scaled_cell("m", 1.0).replacen("units = \"m\"\n", "", 1);
     let none = Instance::parse(&none, false, "none.toml", None).unwrap();

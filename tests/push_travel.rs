@@ -4,6 +4,11 @@
 use std::process::Command;
 
 use pushpack::actions::push::{self, check_scenario, load_scenario, parse_scenario, travel, FailureKind};
+use pushpack::geometry::{BodyAxis, Orientation, Rect};
+use pushpack::instance::Instance;
+use pushpack::placement::{Placement, PlacementResult, PlacementStatus, Target};
+use pushpack::plan::{sequence_placement, PlanOptions, Sequencer};
+use pushpack::verify::verify;
 use serde_json::{json, Value};
 
 fn pushes(name: &str) -> String {
@@ -163,4 +168,337 @@ fn push_check_without_finger_friction_prints_no_absurd_percentages() {
         let c = &js["phases"][0]["contacts"][0];
         assert!(c["friction_use"].is_null(), "{mode}: {c}");
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The planner's rule (`push::geometry_verdict`, used by `Layout::check` and the verifier) is the
+// push-check rule on the same line.
+
+/// The line of `short_phase_passes.json` as the planner sees it: lateral intervals (y), friction
+/// weights `μ m`, the finger, and the gap in front of the back box.
+fn planner_line(gap: f64, min_margin: f64) -> (push::LineGeometry, push::LineTravel) {
+    (
+        push::LineGeometry {
+            lateral: vec![[-0.01, 0.09], [-0.05, 0.05]],
+            weight: vec![0.5 * 1.5, 0.5 * 0.5],
+            pusher: [0.02, 0.04],
+        },
+        push::LineTravel {
+            gaps: vec![gap],
+            depth: vec![0.1, 0.1],
+            mu_finger: 0.5,
+            max_rotation: push::MAX_ROTATION,
+            max_drift: push::MAX_DRIFT,
+            min_margin,
+        },
+    )
+}
+
+#[test]
+fn the_planner_judges_the_issue_lines_by_their_travel_as_push_check_does() {
+    for (file, gap, stable) in [
+        ("short_phase_passes.json", 0.0002, true),
+        ("long_phase_turns.json", 0.01, false),
+    ] {
+        let report = check_scenario(&load_scenario(pushes(file)).unwrap());
+        let want = report.phases[0].travel.as_ref().unwrap();
+        // With push-check's own tolerance and with the planner's default 2 mm.
+        for min_margin in [push::MARGIN_TOL, 0.002] {
+            let (line, travel) = planner_line(gap, min_margin);
+            let v = push::geometry_verdict(&line, &travel);
+            assert_eq!(v.accepted(min_margin), stable, "{file}: {v:?}");
+            let t = v.travel.as_ref().expect("judged by its travel");
+            assert_eq!(t.passes, stable);
+            assert!((t.rotation - closed_form_rotation(gap)).abs() < 1e-9, "{t:?}");
+            for (a, b) in [
+                (t.rotation, want.rotation),
+                (t.drift, want.drift),
+                (t.usage, want.usage),
+                (t.pusher_travel, want.pusher_travel),
+            ] {
+                assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{file}: {t:?} vs {want:?}");
+            }
+            assert!(
+                (v.margin - report.margin.unwrap()).abs() < 1e-7,
+                "{file}: {v:?}\n{report}"
+            );
+            // Judged as if the phase lasted forever, both lines fail: the back box alone pushed
+            // 20 mm beyond the finger's edge.
+            let flags = [true];
+            assert!((push::geometry_margin(&line, &flags) + 0.02).abs() < 1e-7);
+        }
+    }
+}
+
+/// A small deterministic generator (SplitMix64), so the random lines are the same on every run.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+#[test]
+fn the_planner_and_push_check_agree_on_random_lines_with_gaps() {
+    let mut rng = Rng(25);
+    let (mut compared, mut passed_by_travel, mut failed_by_travel) = (0, 0, 0);
+    for case in 0..400 {
+        let k = 2 + (rng.next() * 2.0) as usize;
+        let mut width = vec![];
+        let mut centre: Vec<f64> = vec![];
+        for m in 0..k {
+            let w = rng.range(0.03, 0.12);
+            let c = if m == 0 {
+                0.0
+            } else {
+                centre[m - 1] + rng.range(-0.4, 0.4) * w.min(width[m - 1])
+            };
+            width.push(w);
+            centre.push(c);
+        }
+        let depth: Vec<f64> = (0..k).map(|_| rng.range(0.02, 0.12)).collect();
+        let mass: Vec<f64> = (0..k).map(|_| rng.range(0.05, 2.0)).collect();
+        let gaps: Vec<f64> = (1..k)
+            .map(|_| {
+                if rng.next() < 0.3 {
+                    0.0
+                } else {
+                    rng.range(0.0001, 0.015)
+                }
+            })
+            .collect();
+        // The finger overlaps the back box by at least 1 mm.
+        let (back_c, back_w) = (centre[k - 1], width[k - 1]);
+        let reach = back_w / 2.0 + 0.01 - 0.001;
+        let at = back_c + rng.range(-reach, reach);
+        let mu_finger = rng.range(0.05, 1.0);
+        let min_margin = if case % 2 == 0 { push::MARGIN_TOL } else { 0.002 };
+
+        let line = push::LineGeometry {
+            lateral: (0..k)
+                .map(|m| [centre[m] - width[m] / 2.0, centre[m] + width[m] / 2.0])
+                .collect(),
+            weight: mass.iter().map(|m| 0.5 * m).collect(),
+            pusher: [at - 0.01, at + 0.01],
+        };
+        let travel = push::LineTravel {
+            gaps: gaps.clone(),
+            depth: depth.clone(),
+            mu_finger,
+            max_rotation: push::MAX_ROTATION,
+            max_drift: push::MAX_DRIFT,
+            min_margin,
+        };
+        let v = push::geometry_verdict(&line, &travel);
+
+        // The same line as a push-check file, pushed along −x, gaps between the boxes.
+        let mut x = 0.0;
+        let mut boxes = vec![];
+        for m in 0..k {
+            if m > 0 {
+                x += (depth[m - 1] + depth[m]) / 2.0 + gaps[m - 1];
+            }
+            boxes.push(json!({
+                "id": format!("b{m}"), "size": [depth[m], width[m], 0.05], "mass": mass[m], "pose": [x, centre[m], 0.0]
+            }));
+        }
+        let file = json!({
+            "mode": "2d", "push_dir": "-x",
+            "friction": { "mu_floor": 0.5, "mu_obj": 0.5, "mu_finger": mu_finger },
+            "boxes": boxes,
+            "pusher": { "point": [x + depth[k - 1] / 2.0 + 0.001, at], "width": 0.02, "height": 0.005 },
+            "min_margin": min_margin,
+        });
+        let r = check_scenario(&parse_scenario(&file.to_string(), "<random>").unwrap());
+        let judged = r.phases.iter().find_map(|p| p.travel.as_ref());
+        let near_edge = (v.margin - min_margin).abs() < 1e-6
+            || judged.is_some_and(|t| (t.usage - 1.0).abs() < 1e-6)
+            || v.travel.as_ref().is_some_and(|t| (t.usage - 1.0).abs() < 1e-6);
+        if near_edge {
+            continue;
+        }
+        compared += 1;
+        assert_eq!(v.accepted(min_margin), r.stable(), "case {case}: {v:?}\n{r}\n{file}");
+        assert!((v.margin - r.margin.unwrap()).abs() < 1e-7, "case {case}: {v:?}\n{r}");
+        match (&v.travel, judged) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                assert_eq!(a.passes, b.passes, "case {case}");
+                assert_eq!(a.sticking, b.sticking, "case {case}");
+                for (p, q) in [(a.rotation, b.rotation), (a.drift, b.drift), (a.usage, b.usage)] {
+                    assert!((p - q).abs() <= 1e-9 * (1.0 + q.abs()), "case {case}: {a:?} vs {b:?}");
+                }
+                if a.passes {
+                    passed_by_travel += 1;
+                } else {
+                    failed_by_travel += 1;
+                }
+            }
+            _ => panic!("case {case}: planner {:?}, push-check {:?}\n{r}", v.travel, judged),
+        }
+    }
+    eprintln!("{compared} lines compared: {passed_by_travel} passed by their travel, {failed_by_travel} failed it");
+    // The comparison covers lines the rule lets through and lines it rejects.
+    assert!(compared >= 390, "{compared}");
+    assert!(
+        passed_by_travel >= 10 && failed_by_travel >= 10,
+        "{passed_by_travel} passed, {failed_by_travel} failed"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// A plan that needs the rule.
+
+/// Front `f` (40 × 80 mm, 0.7 kg) and back `b` (40 × 50 mm, 0.3 kg) in a −x line along the −y
+/// wall. With direct places forbidden (the paper's ablation) both are released and pushed. `b`
+/// cannot start touching `f`: the wall takes its −y finger and `f` its −x finger, so it starts at
+/// least one `min_offset` (15 mm) behind `f` and closes that gap alone. The finger centred on
+/// the pair's friction centroid (y = 0.0355) leaves `b`'s centre line (y = 0.025) 0.5 mm beyond
+/// its edge: judged as if that phase lasted forever the pair cannot be pushed together (four
+/// actions); over 15 mm `b` turns about 0.6° (three actions).
+const NEEDS_THE_RULE: &str = r#"
+name = "needs-the-travel-rule"
+[container]
+width = 0.20
+depth = 0.20
+wall_height = 0.10
+wall_thickness = 0.01
+center = [0.30, 0.0]
+[friction]
+mu_floor = 0.5
+mu_obj = 0.5
+mu_finger = 0.6
+[gripper]
+finger_thickness = 0.01
+finger_width = 0.02
+finger_length = 0.06
+max_opening = 0.09
+grasp_depth = 0.015
+release_clearance = 0.005
+[planner]
+no_direct = true
+[[kinds]]
+name = "wide"
+size = [0.04, 0.08, 0.05]
+mass = 0.7
+[[kinds]]
+name = "narrow"
+size = [0.04, 0.05, 0.05]
+mass = 0.3
+[[objects]]
+id = "f"
+kind = "wide"
+x = 0.22
+y = 0.27
+[[objects]]
+id = "b"
+kind = "narrow"
+x = 0.32
+y = 0.30
+"#;
+
+fn needs_the_rule_placement(inst: &Instance) -> PlacementResult {
+    let up = Orientation {
+        up: BodyAxis::Z,
+        yaw90: false,
+    };
+    let corner = |id: &str| if id == "b" { (0.04, 0.0) } else { (0.0, 0.0) };
+    let targets = inst
+        .objects
+        .iter()
+        .map(|o| {
+            let (fp, h) = up.dims(o.size);
+            let (x, y) = corner(&o.id);
+            Target {
+                orientation: up,
+                rect: Rect::new(x, y, fp[0], fp[1]),
+                height: h,
+            }
+        })
+        .collect();
+    let placement = Placement { targets };
+    assert!(
+        placement.violations(inst).is_empty(),
+        "{:?}",
+        placement.violations(inst)
+    );
+    PlacementResult {
+        placement,
+        status: PlacementStatus::Feasible,
+        lower_bound: 0.0,
+        solver: "hand".into(),
+        time_s: 0.0,
+        nodes: 0,
+        subproblems: 0,
+    }
+}
+
+fn plan_packing(inst: &Instance) -> pushpack::plan::PlanOutcome {
+    plan_packing_with(inst, Sequencer::Astar)
+}
+
+fn plan_packing_with(inst: &Instance, sequencer: Sequencer) -> pushpack::plan::PlanOutcome {
+    let mut opts = PlanOptions::from_instance(inst);
+    opts.packing_only = true;
+    opts.sequencer = sequencer;
+    let out = sequence_placement(inst, &opts, needs_the_rule_placement(inst)).unwrap();
+    let r = verify(inst, &out.plan);
+    assert!(r.is_valid(), "{r}");
+    out
+}
+
+#[test]
+fn a_plan_that_needs_the_travel_rule_is_produced_and_verified() {
+    let inst = Instance::parse(NEEDS_THE_RULE, false, "needs_the_rule.toml", None).unwrap();
+    let out = plan_packing(&inst);
+    let pair = out
+        .plan
+        .actions
+        .iter()
+        .find(|e| e.kind == "push" && e.objects == ["f", "b"])
+        .unwrap_or_else(|| panic!("f and b are pushed together: {:#?}", out.plan.actions));
+    let t = pair
+        .travel_phase
+        .as_ref()
+        .expect("b's phase alone is judged by its travel");
+    assert_eq!(t.object, "b");
+    assert!((t.gap - inst.gripper.min_offset).abs() < 1e-9, "{t:?}");
+    assert!((0.4..0.8).contains(&t.rotation.to_degrees()) && t.usage < 0.8, "{t:?}");
+    // The recorded margin is the closed-up pair's (the finger's half width), not b's −0.5 mm.
+    assert!((pair.margin.unwrap() - 0.01).abs() < 1e-6, "{:?}", pair.margin);
+
+    // With a rotation limit below what b turns, the pair cannot go together and the plan needs
+    // one more action (f and b pushed one after the other).
+    assert_eq!(out.plan.metrics.seq_len, 3, "{:#?}", out.plan.actions);
+    let mut strict = inst.clone();
+    strict.settings.max_push_rotation = 0.1f64.to_radians();
+    let without = plan_packing(&strict);
+    assert!(without.plan.actions.iter().all(|e| e.travel_phase.is_none()));
+    assert_eq!(
+        without.plan.metrics.seq_len,
+        out.plan.metrics.seq_len + 1,
+        "{:#?}",
+        without.plan.actions
+    );
+
+    // The paper's sequencer releases the line staggered by one `min_offset` and checks it with
+    // that gap: it pushes the pair together too, with the same travel phase.
+    let paper = plan_packing_with(&inst, Sequencer::Paper);
+    let pair = paper
+        .plan
+        .actions
+        .iter()
+        .find(|e| e.kind == "push" && e.objects == ["f", "b"])
+        .unwrap_or_else(|| panic!("paper: f and b are pushed together: {:#?}", paper.plan.actions));
+    assert_eq!(pair.travel_phase.as_ref(), Some(t));
+    let paper_strict = plan_packing_with(&strict, Sequencer::Paper);
+    assert!(paper_strict.plan.actions.iter().all(|e| e.travel_phase.is_none()));
 }

@@ -112,11 +112,11 @@ fn build(inst: &Instance, pr: &PlacementResult, opts: &PlanOptions, actions: Vec
                 ..
             } => {
                 let off = offsets_before(&actions, k);
-                let gaps: Vec<bool> = objects
+                let gaps: Vec<f64> = objects
                     .windows(2)
-                    .map(|w| off.get(&w[1]).copied().unwrap_or(0.0) > off.get(&w[0]).copied().unwrap_or(0.0) + EPS)
+                    .map(|w| (off.get(&w[1]).copied().unwrap_or(0.0) - off.get(&w[0]).copied().unwrap_or(0.0)).max(0.0))
                     .collect();
-                Some(push::line_margin(inst, p, objects, *push_dir, *pusher_at, &gaps))
+                Some(push::line_verdict(inst, p, objects, *push_dir, *pusher_at, &gaps).margin)
             }
             Action::Place { .. } => None,
         })
@@ -871,12 +871,17 @@ fn hand_verify(layout: &[(&str, BodyAxis, f64, f64)], actions: Vec<Action>) -> R
 /// 1b and 2b direct; 2a and 1a released staggered for a column push; the pair pushed together
 /// with the pusher at `at`.
 fn column_pair(inst: &Instance, at: f64) -> Vec<Action> {
+    column_pair_gap(inst, at, 0.015)
+}
+
+/// [`column_pair`] with 1a released `gap` behind 2a.
+fn column_pair_gap(inst: &Instance, at: f64, gap: f64) -> Vec<Action> {
     vec![
         place(inst, "1b", PlaceMode::Direct, Axis2::Y),
         place(inst, "2b", PlaceMode::Direct, Axis2::X),
         place(inst, "2a", indirect(PushDir::MinusY, 0.015), Axis2::Y),
-        place(inst, "1a", indirect(PushDir::MinusY, 0.03), Axis2::Y),
-        push_line(inst, &["2a", "1a"], PushDir::MinusY, 0.03, at),
+        place(inst, "1a", indirect(PushDir::MinusY, 0.015 + gap), Axis2::Y),
+        push_line(inst, &["2a", "1a"], PushDir::MinusY, 0.015 + gap, at),
     ]
 }
 
@@ -898,11 +903,57 @@ fn hand_made_column_push_is_valid_with_a_centred_pusher() {
 fn every_push_phase_must_be_stable() {
     // Pusher at x = 0.029: the whole pair (friction centroid x ≈ 0.0362) would be pushed with a
     // margin of 0.0028 m > 0.002 m, but the releases are staggered, so 1a first moves alone and
-    // its own centroid (x = 0.04) lies outside the pusher face [0.019, 0.039].
+    // its own centroid (x = 0.04) lies 1 mm outside the pusher face [0.019, 0.039]: it turns
+    // about the finger's edge while it closes its gap. Over 30 mm that is about 1.4°, beyond
+    // the default 1° (docs/push_stability.md §5.4).
     let (inst, _) = default_plan(EXP1);
-    let r = hand_verify(&FLAT, column_pair(&inst, 0.029));
+    let r = hand_verify(&FLAT, column_pair_gap(&inst, 0.029, 0.03));
     assert_only(&r, &[V::PushStability]);
     assert_eq!(r.violations[0].step, Some(5));
+    let m = &r.violations[0].message;
+    assert!(
+        m.contains("1a alone turns") && m.contains("30.0000 mm gap") && m.contains("% of the limits"),
+        "{r}"
+    );
+}
+
+#[test]
+fn a_short_phase_is_judged_by_its_travel_and_recorded() {
+    // The same push with a 15 mm gap: 1a turns about 0.7° and drifts 0.3 mm before it meets 2a,
+    // within the default 1° and 1 mm, so the push's margin is the closed-up pair's.
+    let inst = exp1_any();
+    let pr = hand_placement(&inst, &FLAT);
+    let mut opts = PlanOptions::from_instance(&inst);
+    opts.packing_only = true;
+    let plan = build(&inst, &pr, &opts, column_pair_gap(&inst, 0.029, 0.015));
+    let r = verify(&inst, &plan);
+    assert!(r.is_packing_valid(), "{r}");
+    let e = &plan.actions[4];
+    let t = e
+        .travel_phase
+        .as_ref()
+        .expect("the back object's phase is judged by its travel");
+    assert_eq!(t.object, "1a");
+    assert!((t.gap - 0.015).abs() < 1e-12);
+    assert!((0.5..0.9).contains(&t.rotation.to_degrees()) && t.usage < 1.0, "{t:?}");
+    assert!((e.margin.unwrap() - 0.0028).abs() < 1e-4, "{:?}", e.margin);
+    // A stricter rotation limit from the instance rejects it, naming the phase and its usage.
+    let mut strict = inst.clone();
+    strict.settings.max_push_rotation = 0.5f64.to_radians();
+    let r = verify(&strict, &plan);
+    assert_has(&r, V::PushStability);
+    assert!(
+        r.violations
+            .iter()
+            .any(|v| v.message.contains("1a alone turns") && v.step == Some(5)),
+        "{r}"
+    );
+    // A tampered record of the phase is caught, and so is a missing one.
+    let mut tampered = plan.clone();
+    tampered.actions[4].travel_phase.as_mut().unwrap().usage *= 0.5;
+    assert_only(&verify(&inst, &tampered), &[V::PushStability]);
+    tampered.actions[4].travel_phase = None;
+    assert_only(&verify(&inst, &tampered), &[V::PushStability]);
 }
 
 #[test]
@@ -1048,4 +1099,180 @@ fn every_violation_is_reported_not_just_the_first() {
         text.contains("INVALID") && text.contains("push_stability") && text.contains("step 1"),
         "{text}"
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Phases judged by their travel (docs/push_stability.md §5.4), issue 25's two lines: the back box
+// of a two-box line, pushed 30 mm off its centre line by the finger centred on the line's
+// friction centroid, first closes a gap alone.
+
+/// The line of `instances/pushes/short_phase_passes.json` in a container: front `f` (100 ×
+/// 100 mm, 1.5 kg) and back `b` (100 × 100 mm, 0.5 kg) in a −x line, `b` 40 mm to the −y side of
+/// `f`; `c` under `f` and `d` under `b` hold them Bottom-Left stable.
+fn travel_pair_instance() -> Instance {
+    let text = r#"
+name = "travel-pair"
+[container]
+width = 0.30
+depth = 0.20
+wall_height = 0.10
+wall_thickness = 0.01
+center = [0.30, 0.0]
+[friction]
+mu_floor = 0.5
+mu_obj = 0.5
+mu_finger = 0.5
+[gripper]
+finger_thickness = 0.01
+finger_width = 0.02
+finger_length = 0.06
+max_opening = 0.12
+grasp_depth = 0.015
+release_clearance = 0.005
+[[kinds]]
+name = "heavy"
+size = [0.1, 0.1, 0.05]
+mass = 1.5
+[[kinds]]
+name = "light"
+size = [0.1, 0.1, 0.05]
+mass = 0.5
+[[kinds]]
+name = "wide"
+size = [0.1, 0.065, 0.05]
+mass = 0.2
+[[kinds]]
+name = "thin"
+size = [0.1, 0.025, 0.05]
+mass = 0.2
+[[objects]]
+id = "f"
+kind = "heavy"
+x = 0.20
+y = 0.27
+[[objects]]
+id = "b"
+kind = "light"
+x = 0.36
+y = 0.30
+[[objects]]
+id = "c"
+kind = "wide"
+x = 0.20
+y = -0.27
+[[objects]]
+id = "d"
+kind = "thin"
+x = 0.36
+y = -0.30
+"#;
+    Instance::parse(text, false, "travel_pair.toml", None).unwrap()
+}
+
+/// The four objects at their targets: `c` [0, 0.1] × [0, 0.065], `f` above it, `d` [0.1, 0.2]
+/// × [0, 0.025], `b` above it; the f–b line overlaps over y ∈ [0.065, 0.125].
+fn travel_pair_placement(inst: &Instance) -> PlacementResult {
+    let up = Orientation {
+        up: BodyAxis::Z,
+        yaw90: false,
+    };
+    let at = |id: &str, x: f64, y: f64| {
+        let (fp, h) = up.dims(inst.objects[obj(inst, id)].size);
+        (
+            obj(inst, id),
+            Target {
+                orientation: up,
+                rect: Rect::new(x, y, fp[0], fp[1]),
+                height: h,
+            },
+        )
+    };
+    let mut targets: Vec<(usize, Target)> = vec![
+        at("f", 0.0, 0.065),
+        at("b", 0.1, 0.025),
+        at("c", 0.0, 0.0),
+        at("d", 0.1, 0.0),
+    ];
+    targets.sort_by_key(|t| t.0);
+    let placement = Placement {
+        targets: targets.into_iter().map(|t| t.1).collect(),
+    };
+    assert!(
+        placement.violations(inst).is_empty(),
+        "{:?}",
+        placement.violations(inst)
+    );
+    PlacementResult {
+        placement,
+        status: PlacementStatus::Feasible,
+        lower_bound: 0.0,
+        solver: "hand".into(),
+        time_s: 0.0,
+        nodes: 0,
+        subproblems: 0,
+    }
+}
+
+/// `c` pushed in; `f` released 15 mm out, `b` `gap` behind it (fingers on its y faces, so the gap
+/// can be tiny), the pair pushed with the finger at their friction centroid y = 0.105, 30 mm off
+/// `b`'s centre line; then `d`.
+fn travel_pair_actions(inst: &Instance, gap: f64) -> Vec<Action> {
+    let x = PushDir::MinusX;
+    vec![
+        place(inst, "c", indirect(x, 0.015), Axis2::X),
+        push_line(inst, &["c"], x, 0.015, 0.0325),
+        place(inst, "f", indirect(x, 0.015), Axis2::X),
+        place(inst, "b", indirect(x, 0.015 + gap), Axis2::Y),
+        push_line(inst, &["f", "b"], x, 0.015 + gap, 0.105),
+        place(inst, "d", indirect(x, 0.015), Axis2::X),
+        push_line(inst, &["d"], x, 0.015, 0.0125),
+    ]
+}
+
+#[test]
+fn the_back_box_closing_a_short_gap_alone_is_judged_by_its_travel_in_the_planner_and_the_verifier() {
+    use pushpack::actions::Layout;
+    let inst = travel_pair_instance();
+    let pr = travel_pair_placement(&inst);
+    let p = &pr.placement;
+    let pair = [obj(&inst, "f"), obj(&inst, "b")];
+    assert!((push::centred_pusher(&inst, p, &pair, PushDir::MinusX) - 0.105).abs() < 1e-12);
+    let mut opts = PlanOptions::from_instance(&inst);
+    opts.packing_only = true;
+    for (gap, stable) in [(0.0002, true), (0.01, false)] {
+        let actions = travel_pair_actions(&inst, gap);
+        // The planner's own feasibility check, step by step.
+        let mut layout = Layout::new(&inst, p);
+        for a in &actions[..4] {
+            layout.check(a).unwrap_or_else(|e| panic!("gap {gap}: {a:?}: {e:?}"));
+            layout.apply(a);
+        }
+        let verdict = layout.push_verdict(&pair, PushDir::MinusX, 0.105);
+        let t = verdict.travel.clone().expect("b's phase alone is judged by its travel");
+        assert_eq!(layout.check(&actions[4]).is_ok(), stable, "gap {gap}: {verdict:?}");
+        assert_eq!(t.passes, stable);
+        // The verifier on the whole plan.
+        let plan = build(&inst, &pr, &opts, actions);
+        let r = verify(&inst, &plan);
+        if stable {
+            // 0.058° and 0.05 mm: far inside 1° and 1 mm; the closed-up pair's 10 mm margin is
+            // the push's.
+            assert!(r.is_packing_valid(), "{r}");
+            assert!(t.rotation.to_degrees() < 0.07 && t.usage < 0.1, "{t:?}");
+            assert!((verdict.margin - 0.01).abs() < 1e-7, "{verdict:?}");
+            let rec = plan.actions[4].travel_phase.as_ref().expect("recorded");
+            assert_eq!(rec.object, "b");
+            assert!((rec.usage - t.usage).abs() < 1e-12);
+        } else {
+            // About 3°: the box visibly turns before it meets f.
+            assert!((2.5..3.5).contains(&t.rotation.to_degrees()), "{t:?}");
+            assert_only(&r, &[V::PushStability]);
+            let v = &r.violations[0];
+            assert_eq!(v.step, Some(5));
+            assert!(
+                v.message.contains("b alone turns") && v.message.contains("10.0000 mm gap"),
+                "{r}"
+            );
+        }
+    }
 }

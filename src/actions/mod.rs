@@ -446,38 +446,55 @@ impl<'a> Layout<'a> {
                         format!("pusher sweep behind {} hits {hit}", inst.objects[back].id),
                     ));
                 }
-                let margin = push::line_margin(
-                    inst,
-                    self.placement,
-                    objects,
-                    *push_dir,
-                    *pusher_at,
-                    &self.phase_gaps(objects),
-                );
-                if margin <= inst.settings.min_push_margin {
-                    return Err(infeasible(
-                        "push_stability",
-                        format!(
-                            "push margin {:.4} m is below the minimum {:.4} m",
-                            margin, inst.settings.min_push_margin
+                let verdict = self.push_verdict(objects, *push_dir, *pusher_at);
+                if !verdict.accepted(inst.settings.min_push_margin) {
+                    let detail = match &verdict.travel {
+                        Some(t) if !t.passes => format!(
+                            "{} turns {:.3}° and drifts {:.4} mm while it closes its {:.4} mm gap alone ({:.0} % of the limits)",
+                            inst.objects[back].id,
+                            t.rotation.to_degrees(),
+                            t.drift * 1e3,
+                            t.travel * 1e3,
+                            t.usage * 100.0
                         ),
-                    ));
+                        _ => format!(
+                            "push margin {:.4} m is below the minimum {:.4} m",
+                            verdict.margin, inst.settings.min_push_margin
+                        ),
+                    };
+                    return Err(infeasible("push_stability", detail));
                 }
-                Ok(Some(margin))
+                Ok(Some(verdict.margin))
             }
         }
     }
 
-    /// For each consecutive pair (front, back) of a line, whether a gap separates them now
-    /// (a gap means a separate push phase).
-    fn phase_gaps(&self, objects: &[usize]) -> Vec<bool> {
+    /// For each consecutive pair (front, back) of a line, the gap (m) that separates them now:
+    /// the difference of their release offsets (their targets touch). A gap is a separate push
+    /// phase that lasts exactly that distance.
+    pub fn phase_gaps(&self, objects: &[usize]) -> Vec<f64> {
         objects
             .windows(2)
             .map(|w| match (self.state[w[0]], self.state[w[1]]) {
-                (ObjState::Released { offset: a, .. }, ObjState::Released { offset: b, .. }) => b > a + EPS,
-                _ => true,
+                (ObjState::Released { offset: a, .. }, ObjState::Released { offset: b, .. }) => (b - a).max(0.0),
+                // Not both released: the push is infeasible anyway; an unlimited gap keeps the
+                // phase judged by its margin alone.
+                _ => f64::INFINITY,
             })
             .collect()
+    }
+
+    /// The stability verdict on pushing `objects` (released, front to back) along `dir` from
+    /// their current releases, with the instance's tolerances ([`push::line_verdict`]).
+    pub fn push_verdict(&self, objects: &[usize], dir: PushDir, pusher_at: f64) -> push::LineVerdict {
+        push::line_verdict(
+            self.inst,
+            self.placement,
+            objects,
+            dir,
+            pusher_at,
+            &self.phase_gaps(objects),
+        )
     }
 
     /// Run an action (assumes [`Layout::check`] passed).

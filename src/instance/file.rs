@@ -163,6 +163,13 @@ pub struct PlannerFile {
     /// Minimum push-stability margin (metres of contact segment); default 0.002.
     #[serde(default)]
     pub min_push_margin: Option<f64>,
+    /// Largest rotation (degrees) a box may make over a push phase judged by its travel
+    /// (`docs/push_stability.md` §5.4); default 1.
+    #[serde(default)]
+    pub max_push_rotation_deg: Option<f64>,
+    /// Largest lateral drift (length) of a box over such a phase; default 0.001 m.
+    #[serde(default)]
+    pub max_push_drift: Option<f64>,
     /// Forbid direct placing (ablation).
     #[serde(default)]
     pub no_direct: Option<bool>,

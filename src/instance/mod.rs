@@ -269,6 +269,12 @@ pub struct Settings {
     pub max_nodes: u64,
     /// Minimum push-stability margin in metres (default 0.002).
     pub min_push_margin: f64,
+    /// Largest rotation (rad) of a box over a push phase judged by its travel (default 1°,
+    /// [`DEFAULT_MAX_PUSH_ROTATION`]; `docs/push_stability.md` §5.4).
+    pub max_push_rotation: f64,
+    /// Largest lateral drift (m) of a box over such a phase (default 1 mm,
+    /// [`DEFAULT_MAX_PUSH_DRIFT`]).
+    pub max_push_drift: f64,
     /// Forbid direct placing.
     pub no_direct: bool,
     /// Forbid multi-object pushes.
@@ -283,11 +289,32 @@ impl Default for Settings {
             time_limit: 60.0,
             max_nodes: 2_000_000,
             min_push_margin: 0.002,
+            max_push_rotation: DEFAULT_MAX_PUSH_ROTATION,
+            max_push_drift: DEFAULT_MAX_PUSH_DRIFT,
             no_direct: false,
             no_multi_push: false,
         }
     }
 }
+
+/// Default of `planner.max_push_rotation_deg`, in rad: 1°. The planner's release and target
+/// tolerances are a few tenths of a millimetre over a box's half width, which a degree already
+/// uses (docs/push_stability.md §5.4).
+pub const DEFAULT_MAX_PUSH_ROTATION: f64 = std::f64::consts::PI / 180.0;
+
+/// Default of `planner.max_push_drift`: 1 mm.
+pub const DEFAULT_MAX_PUSH_DRIFT: f64 = 1e-3;
+
+/// Largest accepted `planner.max_push_rotation_deg`. The travel rule uses the rotation and drift
+/// rates at the start of a phase (`docs/push_stability.md` §5.4); within a few degrees the
+/// pivot's lever arms change by a few per cent, beyond that the estimate no longer describes the
+/// motion, so a larger tolerance would accept what the model cannot judge.
+pub const MAX_PUSH_ROTATION_DEG: f64 = 5.0;
+
+/// Largest accepted `planner.max_push_drift` (m): a box that ends a push 5 mm beside its target
+/// would press that far into a touching neighbour's target in a dense packing; a larger
+/// tolerance would only hide a misplacement.
+pub const MAX_PUSH_DRIFT: f64 = 0.005;
 
 /// Largest accepted `planner.time_limit` in seconds (larger values cannot be represented as a
 /// `std::time::Duration` deadline in every solver).

@@ -446,6 +446,32 @@ fn planner_settings(c: &Check, p: &super::file::PlannerFile, scale: f64) -> Resu
             Some(v) => l(c.non_negative("planner.min_push_margin", v)?),
             None => d.min_push_margin,
         },
+        max_push_rotation: match p.max_push_rotation_deg {
+            Some(v) => {
+                let v = c.positive("planner.max_push_rotation_deg", v)?;
+                if v > MAX_PUSH_ROTATION_DEG {
+                    return Err(c.err(
+                        "planner.max_push_rotation_deg",
+                        format!("must be at most {MAX_PUSH_ROTATION_DEG} degrees, got {v}"),
+                    ));
+                }
+                v.to_radians()
+            }
+            None => d.max_push_rotation,
+        },
+        max_push_drift: match p.max_push_drift {
+            Some(v) => {
+                let v = l(c.positive("planner.max_push_drift", v)?);
+                if v > MAX_PUSH_DRIFT {
+                    return Err(c.err(
+                        "planner.max_push_drift",
+                        format!("must be at most {MAX_PUSH_DRIFT} m, got {} m", num(v)),
+                    ));
+                }
+                v
+            }
+            None => d.max_push_drift,
+        },
         no_direct: p.no_direct.unwrap_or(false),
         no_multi_push: p.no_multi_push.unwrap_or(false),
     })

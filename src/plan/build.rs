@@ -30,7 +30,8 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
         })
         .collect();
     let mut pos = [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)];
-    let layout = crate::actions::Layout::new(inst, p);
+    // Replayed along the actions: a push's travel phase depends on where its objects were released.
+    let mut layout = crate::actions::Layout::new(inst, p);
     let actions = sr
         .actions
         .iter()
@@ -41,7 +42,7 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             let (cost, end) = path_length(&pos[a.arm().index()], &kps);
             pos[a.arm().index()] = end;
             let ids = a.objects().iter().map(|&i| inst.objects[i].id.clone()).collect();
-            match a {
+            let entry = match a {
                 Action::Place {
                     object,
                     mode,
@@ -65,17 +66,18 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
                         release: Some(layout.release_rect(*object, mode)),
                         margin: None,
                         push_model: None,
+                        travel_phase: None,
                         arm: *arm,
                         cost,
                         key_poses: kps,
                     }
                 }
                 Action::Push {
+                    objects,
                     push_dir,
                     distance,
                     pusher_at,
                     arm,
-                    ..
                 } => ActionEntry {
                     step: k + 1,
                     kind: "push".into(),
@@ -89,11 +91,23 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
                     release: None,
                     margin: *m,
                     push_model: Some("2d".into()),
+                    travel_phase: layout
+                        .push_verdict(objects, *push_dir, *pusher_at)
+                        .travel
+                        .map(|t| TravelPhase {
+                            object: inst.objects[*objects.last().expect("non-empty")].id.clone(),
+                            gap: t.travel,
+                            rotation: t.rotation,
+                            drift: t.drift,
+                            usage: t.usage,
+                        }),
                     arm: *arm,
                     cost,
                     key_poses: kps,
                 },
-            }
+            };
+            layout.apply(a);
+            entry
         })
         .collect();
     let (robot, trajectories) = crate::motion::plan_trajectories(

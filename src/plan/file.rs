@@ -119,12 +119,35 @@ pub struct ActionEntry {
     /// Mechanical model that decided the push (`2d`: clarabel LP, docs/push_stability.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub push_model: Option<String>,
+    /// The push's phase judged by its travel, when it has one (docs/push_stability.md §5.4):
+    /// the back object closing its gap alone while it turns about the finger's edge. `margin`
+    /// is then the smallest margin of the other phases.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub travel_phase: Option<TravelPhase>,
     /// Executing arm.
     pub arm: Arm,
     /// TCP travel of this action from the arm's previous position (m).
     pub cost: f64,
     /// TCP key points (world frame).
     pub key_poses: Vec<KeyPoint>,
+}
+
+/// How far the back object of a push turns and drifts while it closes its gap alone, against
+/// the instance's `planner.max_push_rotation_deg` and `planner.max_push_drift`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TravelPhase {
+    /// The object that moves alone (the line's back object).
+    pub object: String,
+    /// The gap it closes (m).
+    pub gap: f64,
+    /// Its rotation over the gap (rad).
+    pub rotation: f64,
+    /// The lateral drift of its centre over the gap (m).
+    pub drift: f64,
+    /// `max(rotation / max_push_rotation, drift / max_push_drift)`: the share of the
+    /// tolerances the phase uses; it passes iff ≤ 1.
+    pub usage: f64,
 }
 
 /// Statistics of one stage.

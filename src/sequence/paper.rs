@@ -112,8 +112,10 @@ fn split_stable(
         while end < chain.len() {
             let line = &chain[start..=end];
             let at = push::centred_pusher(inst, placement, line, dir);
-            let gaps = vec![staggered; line.len() - 1];
-            if push::line_margin(inst, placement, line, dir, at, &gaps) > inst.settings.min_push_margin {
+            // The gaps `build` releases the line with: one `d` between staggered objects.
+            let gap = if staggered { inst.gripper.min_offset } else { 0.0 };
+            let gaps = vec![gap; line.len() - 1];
+            if push::line_verdict(inst, placement, line, dir, at, &gaps).accepted(inst.settings.min_push_margin) {
                 end += 1;
             } else {
                 break;

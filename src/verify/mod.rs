@@ -16,6 +16,7 @@ mod claims;
 mod slabs;
 pub mod trajectories;
 
+use crate::actions::push::travel::TravelCheck;
 use crate::actions::{push, Action, PlaceMode};
 use crate::geometry::Arm;
 use crate::geometry::{Axis2, Box3, PushDir, Rect, EPS};

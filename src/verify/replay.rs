@@ -378,21 +378,39 @@ impl<'a> Replay<'a> {
                 );
             }
         }
-        // Stability with the planner's mechanical model, phases from the gaps between releases.
-        let gaps: Vec<bool> = offsets.windows(2).map(|w| w[1] > w[0] + EPS).collect();
-        let geo = push::line_geometry(self.inst, self.placement, line, dir, at);
-        let margin = push::geometry_margin(&geo, &gaps);
+        // Stability with the planner's mechanical model and the instance's tolerances, phases
+        // from the gaps between releases, each lasting its gap (docs/push_stability.md §5.4).
+        let gaps: Vec<f64> = offsets.windows(2).map(|w| (w[1] - w[0]).max(0.0)).collect();
+        let verdict = push::line_verdict(self.inst, self.placement, line, dir, at, &gaps);
+        let margin = verdict.margin;
         let min = self.inst.settings.min_push_margin;
-        if margin.is_nan() || margin <= min {
-            self.flag(
+        match &verdict.travel {
+            Some(t) if !t.passes => self.flag(
+                s,
+                PushStability,
+                format!(
+                    "push of [{}] with the pusher at {at:.4}: {} alone turns {:.3}° and drifts {:.4} mm while it closes its {:.4} mm gap, {:.0} % of the limits {:.3}° and {:.4} mm",
+                    names.join(", "),
+                    self.id(back),
+                    t.rotation.to_degrees(),
+                    t.drift * 1e3,
+                    t.travel * 1e3,
+                    t.usage * 100.0,
+                    self.inst.settings.max_push_rotation.to_degrees(),
+                    self.inst.settings.max_push_drift * 1e3
+                ),
+            ),
+            _ if margin.is_nan() || margin <= min => self.flag(
                 s,
                 PushStability,
                 format!(
                     "push of [{}] with the pusher at {at:.4} has margin {margin:.4} m, not above the minimum {min:.4} m",
                     names.join(", ")
                 ),
-            );
+            ),
+            _ => {}
         }
+        self.check_travel_record(s, e, back, verdict.travel.as_ref());
         match e.margin {
             None => self.flag(s, PushStability, "push records no stability margin".into()),
             Some(m) if !close_margin(m, margin) => self.flag(
@@ -407,6 +425,44 @@ impl<'a> Replay<'a> {
             let t = self.target(i);
             self.grow(&t);
         }
+    }
+
+    /// The recorded travel phase of a push agrees with the recomputed one: present exactly when
+    /// the back object's phase is judged by its travel, same object, gap and usage.
+    fn check_travel_record(&mut self, s: Option<usize>, e: &ActionEntry, back: usize, t: Option<&TravelCheck>) {
+        use ViolationClass::PushStability;
+        let msg = match (&e.travel_phase, t) {
+            (None, None) => return,
+            (None, Some(t)) => format!(
+                "push records no travel phase, but {} closes its {:.4} mm gap alone and is judged by its travel",
+                self.id(back),
+                t.travel * 1e3
+            ),
+            (Some(r), None) => format!(
+                "push records a travel phase of {}, but no phase of it is judged by its travel",
+                r.object
+            ),
+            (Some(r), Some(t)) => {
+                let same = r.object == self.id(back)
+                    && close_margin(r.gap, t.travel)
+                    && close(r.rotation, t.rotation)
+                    && close_margin(r.drift, t.drift)
+                    && close(r.usage, t.usage);
+                if same {
+                    return;
+                }
+                format!(
+                    "recorded travel phase ({} over {:.6} m, usage {:.4}) differs from the recomputed ({} over {:.6} m, usage {:.4})",
+                    r.object,
+                    r.gap,
+                    r.usage,
+                    self.id(back),
+                    t.travel,
+                    t.usage
+                )
+            }
+        };
+        self.flag(s, PushStability, msg);
     }
 
     pub(super) fn check_final(&mut self) {

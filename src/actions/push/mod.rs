@@ -39,6 +39,8 @@ pub use scenario::{check_scenario, load_scenario, parse_scenario, Failure, Failu
 use crate::geometry::PushDir;
 use crate::instance::Instance;
 use crate::placement::Placement;
+use serde::Serialize;
+use travel::TravelCheck;
 
 /// Fraction by which every friction coefficient is shrunk ("strictly inside the cone"):
 /// contacts use `μ (1 − CONE_SHRINK)`. Floor friction is a load, not a cone, and is not shrunk.
@@ -48,12 +50,14 @@ pub const CONE_SHRINK: f64 = 0.05;
 pub const MARGIN_TOL: f64 = crate::geometry::EPS;
 
 /// Default largest rotation (rad) a box may make over a phase of known, finite travel whose
-/// line of action leaves its contact (1°: the planner's release and target tolerances are a few
-/// tenths of a millimetre over a box's half width, which a degree already uses).
-pub const MAX_ROTATION: f64 = std::f64::consts::PI / 180.0;
+/// line of action leaves its contact: the instance default
+/// [`crate::instance::DEFAULT_MAX_PUSH_ROTATION`] (1°), defined there because instances sit below
+/// the push model.
+pub const MAX_ROTATION: f64 = crate::instance::DEFAULT_MAX_PUSH_ROTATION;
 
-/// Default largest lateral drift (m) of a box's centre over such a phase: 1 mm.
-pub const MAX_DRIFT: f64 = 1e-3;
+/// Default largest lateral drift (m) of a box's centre over such a phase:
+/// [`crate::instance::DEFAULT_MAX_PUSH_DRIFT`] (1 mm).
+pub const MAX_DRIFT: f64 = crate::instance::DEFAULT_MAX_PUSH_DRIFT;
 
 /// Lateral intervals and friction weights of a line, front to back (the planner's 2-D view:
 /// boxes axis-aligned, pushed perpendicular to their faces).
@@ -67,12 +71,64 @@ pub struct LineGeometry {
     pub pusher: [f64; 2],
 }
 
-/// Stability margin (m) of a line over the phases that occur, from the clarabel 2-D check
+/// Stability margin (m) of a line over the phases that occur, every phase judged as if it
+/// lasted forever (the rule for gaps known only as flags), from the clarabel 2-D check
 /// ([`convex::line_margin_2d`], cached by geometry). `gaps[m]` says whether box `m + 1` starts
 /// separated from box `m` (so boxes `m + 1..` move alone first). `−∞` when no contact forces
 /// exist at all (cannot happen for a [`LineGeometry`], whose contact normals are along `u`).
+/// The planner and the verifier know the gaps and use [`geometry_verdict`].
 pub fn geometry_margin(line: &LineGeometry, gaps: &[bool]) -> f64 {
     convex::line_margin_2d(line, gaps)
+}
+
+/// What judging a planner line's phases by their travel needs beyond its [`LineGeometry`]
+/// (`docs/push_stability.md` §5.4).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LineTravel {
+    /// `gaps[m]`: how far box `m + 1` starts behind box `m` (m; 0 = touching). A gap above
+    /// [`crate::geometry::EPS`] makes boxes `m + 1..` a phase of their own that lasts exactly
+    /// this distance.
+    pub gaps: Vec<f64>,
+    /// Extent of each box along the push (m), front to back: the finger's lever arm about the
+    /// back box's centre and the box's friction radius depend on it.
+    pub depth: Vec<f64>,
+    /// Finger–box friction at the back box (sticking or sliding at the pivot).
+    pub mu_finger: f64,
+    /// Largest rotation (rad) of a box over a phase judged by its travel.
+    pub max_rotation: f64,
+    /// Largest lateral drift (m) of its centre over such a phase.
+    pub max_drift: f64,
+    /// The margin (m) a push needs. A phase that falls short of it (its line of action nearer
+    /// the finger's edge than this, or beyond it) is judged by its travel when the rule applies.
+    pub min_margin: f64,
+}
+
+/// The planner's and the verifier's verdict on a push: accepted iff `margin > min_margin`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LineVerdict {
+    /// Smallest margin (m) of the phases not passed by their travel (all of them when the back
+    /// box's phase fails its travel); `−∞` when some phase has no equilibrium at all.
+    pub margin: f64,
+    /// The back box's phase alone, when it is judged by its travel: how far the box turns and
+    /// drifts while it closes its gap, against the tolerances.
+    pub travel: Option<TravelCheck>,
+}
+
+impl LineVerdict {
+    /// Whether the push is accepted with the required margin `min_margin` (the one the verdict
+    /// was computed with). A phase that fails its travel keeps its own margin, which is at most
+    /// `min_margin`, so the margin alone decides.
+    pub fn accepted(&self, min_margin: f64) -> bool {
+        self.margin > min_margin
+    }
+}
+
+/// The verdict on a line of known travel ([`convex::line_verdict_2d`], cached by every input):
+/// a phase in which the back box closes a finite gap alone, short of `min_margin` because its
+/// line of action nears or leaves the finger, is judged by how far the box turns and drifts over
+/// the gap; every other phase by its margin. Equal to `push-check` on the same line.
+pub fn geometry_verdict(line: &LineGeometry, travel: &LineTravel) -> LineVerdict {
+    convex::line_verdict_2d(line, travel)
 }
 
 /// Build the line geometry of objects (front to back) at their targets, pushed along `dir`
@@ -99,8 +155,52 @@ pub fn line_geometry(
     }
 }
 
-/// Stability margin (m) of pushing `objects` (front to back) along `dir`; positive = stable.
-/// The planner's and the verifier's production check (2-D, clarabel).
+/// The travel data of pushing `objects` (front to back) along `dir` with the given gaps (m;
+/// `gaps[m]` between objects `m` and `m + 1`, from their release offsets), with the instance's
+/// tolerances (`planner.min_push_margin`, `max_push_rotation_deg`, `max_push_drift`).
+pub fn line_travel(
+    inst: &Instance,
+    placement: &Placement,
+    objects: &[usize],
+    dir: PushDir,
+    gaps: &[f64],
+) -> LineTravel {
+    let axis = dir.axis();
+    let back = *objects.last().expect("a line has at least one object");
+    LineTravel {
+        gaps: gaps.to_vec(),
+        depth: objects
+            .iter()
+            .map(|&i| placement.targets[i].rect.extent(axis))
+            .collect(),
+        mu_finger: inst.objects[back].mu_finger,
+        max_rotation: inst.settings.max_push_rotation,
+        max_drift: inst.settings.max_push_drift,
+        min_margin: inst.settings.min_push_margin,
+    }
+}
+
+/// The planner's and the verifier's production check (2-D, clarabel) of pushing `objects`
+/// (front to back) along `dir` by the finger centred at `pusher_at`, with the gaps (m) the
+/// releases left between consecutive objects: [`geometry_verdict`] with the instance's
+/// tolerances.
+pub fn line_verdict(
+    inst: &Instance,
+    placement: &Placement,
+    objects: &[usize],
+    dir: PushDir,
+    pusher_at: f64,
+    gaps: &[f64],
+) -> LineVerdict {
+    geometry_verdict(
+        &line_geometry(inst, placement, objects, dir, pusher_at),
+        &line_travel(inst, placement, objects, dir, gaps),
+    )
+}
+
+/// Stability margin (m) of pushing `objects` (front to back) along `dir`, every phase judged as
+/// if it lasted forever ([`geometry_margin`]); positive = stable. The planner and the verifier
+/// use [`line_verdict`], which knows how long each phase lasts.
 pub fn line_margin(
     inst: &Instance,
     placement: &Placement,

@@ -130,9 +130,118 @@ pub fn line_margin_2d(line: &LineGeometry, gaps: &[bool]) -> f64 {
     m
 }
 
-/// Clear this thread's geometry cache and solver table (for benchmarks and tests).
+/// The planner's verdict on a line whose gaps are known (see
+/// [`crate::actions::push::geometry_verdict`]), cached by every input.
+///
+/// A phase can only be excused by its travel when the back box closes a finite gap alone and
+/// falls short of the required margin. Otherwise the verdict is the unlimited-travel margin of
+/// [`line_margin_2d`], bit for bit, so lines the rule does not touch keep their margins. When it
+/// may apply, the line is checked like a `push-check` scenario: [`check`] on the model with the
+/// boxes' real depths and the finger's friction ([`model_of_travel_line`]), with the required
+/// margin as the tolerance below which a phase is judged by its travel.
+pub fn line_verdict_2d(line: &LineGeometry, t: &LineTravel) -> LineVerdict {
+    let k = line.lateral.len();
+    let flags: Vec<bool> = t.gaps.iter().map(|&g| g > crate::geometry::EPS).collect();
+    let unlimited = line_margin_2d(line, &flags);
+    let back_alone = k >= 2 && flags.get(k - 2).copied().unwrap_or(false);
+    // A NaN margin is never "enough": it goes on to the full check, which reports it.
+    if !back_alone || unlimited > t.min_margin {
+        return LineVerdict {
+            margin: unlimited,
+            travel: None,
+        };
+    }
+    let mut key: Vec<u64> = Vec::with_capacity(6 * k + 8);
+    key.push(k as u64);
+    for m in 0..k {
+        key.extend([
+            line.lateral[m][0].to_bits(),
+            line.lateral[m][1].to_bits(),
+            line.weight[m].to_bits(),
+            t.depth.get(m).copied().unwrap_or(f64::NAN).to_bits(),
+        ]);
+    }
+    key.extend(t.gaps.iter().map(|g| g.to_bits()));
+    key.extend(
+        [
+            line.pusher[0],
+            line.pusher[1],
+            t.mu_finger,
+            t.max_rotation,
+            t.max_drift,
+            t.min_margin,
+        ]
+        .map(f64::to_bits),
+    );
+    if let Some(v) = VERDICT_CACHE.with(|c| c.borrow().get(&key).cloned()) {
+        return v;
+    }
+    let model = model_of_travel_line(line, t);
+    let opts = CheckOptions {
+        tol: t.min_margin,
+        max_rotation: t.max_rotation,
+        max_drift: t.max_drift,
+        ..CheckOptions::default()
+    };
+    let r = check(&model, Dim::D2, &opts);
+    let v = match r.phases.iter().find_map(|p| p.travel.clone()) {
+        Some(tc) => LineVerdict {
+            margin: r.margin.unwrap_or(f64::NEG_INFINITY),
+            travel: Some(tc),
+        },
+        // Nothing judged by its travel: the unlimited rule's margin, as computed without it.
+        None => LineVerdict {
+            margin: unlimited,
+            travel: None,
+        },
+    };
+    VERDICT_CACHE.with(|c| {
+        let mut c = c.borrow_mut();
+        if c.len() >= CACHE_CAP {
+            c.clear();
+        }
+        c.insert(key, v.clone());
+    });
+    v
+}
+
+/// [`model_of_line`] with what the travel rule needs: each box's depth along `u` (the back box's
+/// friction radius and the finger's lever arm about its centre), the finger's friction at the
+/// back box, and each phase's travel (the gap in front of its front box; the last phase
+/// unlimited). The boxes stand closed up, front box centred at the origin; the 2-D margins do not
+/// depend on the depths (every contact normal is along `u`, so no tangential force and no lever
+/// arm along `u` enters, §2), and box–box friction stays 1 for the same reason.
+pub fn model_of_travel_line(line: &LineGeometry, t: &LineTravel) -> PushModel {
+    let k = line.lateral.len();
+    let flags: Vec<bool> = t.gaps.iter().map(|&g| g > crate::geometry::EPS).collect();
+    let mut model = model_of_line(line, &flags);
+    let mut x = 0.0;
+    for m in 0..k {
+        let depth = t.depth.get(m).copied().unwrap_or(0.0);
+        if m > 0 {
+            x -= (t.depth.get(m - 1).copied().unwrap_or(0.0) + depth) / 2.0;
+        }
+        let b = &mut model.bodies[m];
+        b.centre[0] = x;
+        b.cof[0] = x;
+        b.half[0] = depth / 2.0;
+        model.contacts[m].p0[0] = x - depth / 2.0;
+    }
+    if let Some(c) = model.contacts.last_mut() {
+        c.mu = t.mu_finger;
+    }
+    model.phase_travel = model
+        .phase_starts
+        .iter()
+        .map(|&s| if s == 0 { f64::INFINITY } else { t.gaps[s - 1] })
+        .collect();
+    model
+}
+
+/// Clear this thread's geometry caches and solver table (for benchmarks and tests).
 pub fn clear_caches() {
     LINE_CACHE.with(|c| c.borrow_mut().clear());
+    VERDICT_CACHE.with(|c| c.borrow_mut().clear());
     SOLVERS.with(|s| s.borrow_mut().clear());
 }
 

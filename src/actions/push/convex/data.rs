@@ -13,6 +13,7 @@ pub(super) type SolverKey = (Dim, Vec<usize>, Variant);
 
 thread_local! {
     pub(super) static LINE_CACHE: RefCell<HashMap<Vec<u64>, f64>> = RefCell::new(HashMap::new());
+    pub(super) static VERDICT_CACHE: RefCell<HashMap<Vec<u64>, LineVerdict>> = RefCell::new(HashMap::new());
     pub(super) static SOLVERS: RefCell<HashMap<SolverKey, DefaultSolver<f64>>> = RefCell::new(HashMap::new());
     pub(super) static REUSE: RefCell<bool> = const { RefCell::new(true) };
 }

@@ -49,7 +49,7 @@ use serde::Serialize;
 
 use super::model::{cross, dot, Body, Contact, ContactKind, PushModel, V2};
 use super::travel::{self, TravelCheck};
-use super::{LineGeometry, CONE_SHRINK, MARGIN_TOL};
+use super::{LineGeometry, LineTravel, LineVerdict, CONE_SHRINK, MARGIN_TOL};
 
 /// Options of a check.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

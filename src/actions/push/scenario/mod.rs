@@ -108,6 +108,8 @@ struct ScenarioFile {
     max_rotation: Option<f64>,
     #[serde(default)]
     max_drift: Option<f64>,
+    #[serde(default)]
+    min_margin: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -138,6 +138,12 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
         Some(d) => positive(file, "max_drift", d)? * scale,
         None => crate::actions::push::MAX_DRIFT,
     };
+    // The margin a push needs (a planner's `min_push_margin`): a phase short of it is judged by
+    // its travel where the rule applies, so a file can reproduce a planner's verdict.
+    let min_margin = match f.min_margin {
+        Some(m) => non_negative(file, "min_margin", m)? * scale,
+        None => crate::actions::push::MARGIN_TOL,
+    };
     if f.boxes.is_empty() {
         return Err(err(file, "boxes", "needs at least one box"));
     }
@@ -421,7 +427,7 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             cone_shrink,
             max_rotation,
             max_drift,
-            ..CheckOptions::default()
+            tol: min_margin,
         },
     })
 }
