@@ -267,3 +267,22 @@ fn cli_simulate_and_verify_simulate_report_and_exit_by_the_verdict() {
     let out = cli(&["simulate", "does/not/exist.json"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn the_verdict_uses_the_instances_push_tolerances() {
+    let (inst, plan) = planned("examples/row_of_three.json");
+    let o = SimOptions::from_instance(&inst);
+    assert_eq!(o.tolerances.max_rotation, inst.settings.max_push_rotation);
+    assert_eq!(o.tolerances.max_drift, inst.settings.max_push_drift);
+    assert!(simulate(&inst, &plan, &o).unwrap().ok);
+    // A micrometre is tighter than the replay's own contact slop: the same plan fails.
+    let tight = SimOptions {
+        tolerances: pushpack::simulate::Tolerances {
+            max_rotation: o.tolerances.max_rotation,
+            max_drift: 1e-6,
+        },
+        ..o
+    };
+    let s = simulate(&inst, &plan, &tight).unwrap();
+    assert!(!s.ok && s.boxes.iter().any(|b| !b.ok), "{s}");
+}

@@ -8,7 +8,8 @@ use serde::{Deserialize, Serialize};
 use crate::instance::Instance;
 
 /// What a box may do during one push and where it may end: the instance's push tolerances
-/// (`[planner] max_push_rotation_deg`, `max_push_drift`), the same ones the push rules use.
+/// (`[planner] max_push_rotation_deg`, `max_push_drift`), the same ones the planner's travel
+/// rule uses.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Tolerances {
     /// Largest rotation of a box (rad): during an action, and from its target at the end.
@@ -20,10 +21,10 @@ pub struct Tolerances {
 
 impl Tolerances {
     /// The instance's push tolerances.
-    pub fn from_instance(_inst: &Instance) -> Tolerances {
+    pub fn from_instance(inst: &Instance) -> Tolerances {
         Tolerances {
-            max_rotation: crate::actions::push::MAX_ROTATION,
-            max_drift: crate::actions::push::MAX_DRIFT,
+            max_rotation: inst.settings.max_push_rotation,
+            max_drift: inst.settings.max_push_drift,
         }
     }
 }
