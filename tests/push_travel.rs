@@ -1,12 +1,14 @@
 //! Phases judged by their travel (`docs/push_stability.md` §5.4) and the `push-check` nits of
 //! issue 25 (size limits, friction use without friction).
 
+mod common;
+
 use std::process::Command;
 
 use pushpack::actions::push::{self, check_scenario, load_scenario, parse_scenario, travel, FailureKind};
 use pushpack::geometry::{BodyAxis, Orientation, Rect};
 use pushpack::instance::Instance;
-use pushpack::placement::{Placement, PlacementResult, PlacementStatus, Target};
+use pushpack::placement::{Placement, PlacementResult, Target};
 use pushpack::plan::{sequence_placement, PlanOptions, Sequencer};
 use pushpack::verify::verify;
 use serde_json::{json, Value};
@@ -425,20 +427,7 @@ fn needs_the_rule_placement(inst: &Instance) -> PlacementResult {
         })
         .collect();
     let placement = Placement { targets };
-    assert!(
-        placement.violations(inst).is_empty(),
-        "{:?}",
-        placement.violations(inst)
-    );
-    PlacementResult {
-        placement,
-        status: PlacementStatus::Feasible,
-        lower_bound: 0.0,
-        solver: "hand".into(),
-        time_s: 0.0,
-        nodes: 0,
-        subproblems: 0,
-    }
+    common::hand_result(inst, placement)
 }
 
 fn plan_packing(inst: &Instance) -> pushpack::plan::PlanOutcome {

@@ -12,6 +12,8 @@
 //! recorded fields (release, costs, metrics) agree with the actions and only the intended
 //! violation remains.
 
+mod common;
+
 use pushpack::actions::{push, Action, PlaceMode};
 use pushpack::geometry::{Axis2, BodyAxis, Orientation, PushDir, Rect, EPS};
 use pushpack::instance::Instance;
@@ -1197,20 +1199,7 @@ fn travel_pair_placement(inst: &Instance) -> PlacementResult {
     let placement = Placement {
         targets: targets.into_iter().map(|t| t.1).collect(),
     };
-    assert!(
-        placement.violations(inst).is_empty(),
-        "{:?}",
-        placement.violations(inst)
-    );
-    PlacementResult {
-        placement,
-        status: PlacementStatus::Feasible,
-        lower_bound: 0.0,
-        solver: "hand".into(),
-        time_s: 0.0,
-        nodes: 0,
-        subproblems: 0,
-    }
+    common::hand_result(inst, placement)
 }
 
 /// `c` pushed in; `f` released 15 mm out, `b` `gap` behind it (fingers on its y faces, so the gap
