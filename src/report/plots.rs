@@ -383,7 +383,14 @@ fn ratios(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(w)));
         }
         if !data.iter().all(|d| d.1.is_empty()) {
-            draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+            // Area ratios of a heuristic sit far right; above the curves on the left only the
+            // best planner's line at 100 % runs.
+            let pos = if pi == 0 {
+                SeriesLabelPosition::UpperLeft
+            } else {
+                SeriesLabelPosition::LowerRight
+            };
+            draw_legend(&mut chart, pos)?;
         }
     }
     root.present()?;
