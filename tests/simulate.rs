@@ -286,3 +286,22 @@ fn the_verdict_uses_the_instances_push_tolerances() {
     let s = simulate(&inst, &plan, &tight).unwrap();
     assert!(!s.ok && s.boxes.iter().any(|b| !b.ok), "{s}");
 }
+
+#[test]
+fn a_sweep_replays_under_six_distinct_settings() {
+    let (inst, plan) = planned("examples/two_boxes.toml");
+    let base = SimOptions::from_instance(&inst);
+    let runs = pushpack::simulate::sweep::sweep(&inst, &plan, &base).unwrap();
+    assert_eq!(runs.len(), 6);
+    let settings: std::collections::BTreeSet<_> = runs.iter().map(|r| r.setting.clone()).collect();
+    assert_eq!(settings.len(), 6, "{settings:?}");
+    assert_eq!(runs[0].report.steps, simulate(&inst, &plan, &base).unwrap().steps);
+    // Half the step: about twice the steps.
+    let ratio = runs[1].report.steps as f64 / runs[0].report.steps as f64;
+    assert!((ratio - 2.0).abs() < 0.05, "{ratio}");
+    assert!(
+        runs.iter().all(|r| r.report.ok),
+        "{}",
+        pushpack::simulate::sweep::sweep_table(&runs)
+    );
+}

@@ -117,6 +117,11 @@ enum Cmd {
         /// Contact stiffness as a natural frequency (Hz; default 150).
         #[arg(long)]
         contact_hz: Option<f64>,
+        /// Replay under six settings around these (half the step, a half and a quarter of the
+        /// push speed, softer and stiffer contacts) and print one line each: a verdict that changes
+        /// marks a fragile plan. Exits 1 unless every replay is within tolerance.
+        #[arg(long)]
+        sweep: bool,
     },
     /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, or CSV).
     Export {
@@ -429,6 +434,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             dt,
             push_speed,
             contact_hz,
+            sweep,
         } => {
             let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
             for (flag, v) in flags {
@@ -448,6 +454,19 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 contact_hz: contact_hz.unwrap_or(d.contact_hz),
                 ..d
             };
+            if sweep {
+                let runs = pushpack::simulate::sweep::sweep(&inst, &p, &opts)?;
+                if json {
+                    println!("{}", serde_json::to_string_pretty(&runs).expect("serialisable"));
+                } else {
+                    print!("{}", pushpack::simulate::sweep::sweep_table(&runs));
+                }
+                return Ok(if runs.iter().all(|r| r.report.ok) {
+                    EXIT_OK
+                } else {
+                    EXIT_FAIL
+                });
+            }
             let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));

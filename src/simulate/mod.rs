@@ -19,6 +19,7 @@
 
 pub mod line;
 pub mod report;
+pub mod sweep;
 mod world;
 
 use std::time::Instant;
@@ -36,7 +37,7 @@ use crate::plan::Plan;
 pub use report::{ActionSim, BoxSim, SimReport, Tolerances};
 use world::{Kinematic, World};
 
-/// How the replay runs. Defaults: [`SimOptions::default`].
+/// How the replay runs. Defaults: [`SimOptions::from_instance`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimOptions {
     /// Time step (s). Default 1/240 s: a push at 20 mm/s moves 83 µm per step.
