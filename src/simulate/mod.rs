@@ -140,10 +140,11 @@ pub fn simulate(inst: &Instance, plan: &Plan, opts: &SimOptions) -> Result<SimRe
 }
 
 /// What the boxes did while one action ran.
-#[derive(Default)]
 struct Watch {
     start: Vec<(usize, Isometry3<f64>)>,
-    /// Largest rotation (rad) and lateral drift (m) of each watched box so far.
+    /// Drift measured along this axis only (sideways across a push), else in full.
+    lateral: Option<Axis2>,
+    /// Largest rotation (rad) and drift (m) of each watched box so far.
     rotation: Vec<f64>,
     drift: Vec<f64>,
 }
@@ -211,7 +212,7 @@ impl Replay<'_> {
         let up = Vector3::new(0.0, 0.0, g.finger_length / 2.0);
         let above = Vector3::new(release.x, release.y, release.z.max(self.free_height()));
 
-        let mut watch = self.watch(&[]);
+        let mut watch = self.watch(&self.in_container, None);
         let held = self
             .world
             .add_object(object, half, self.inst.objects[object].mass, above + to_box);
@@ -280,24 +281,24 @@ impl Replay<'_> {
         let fhalf = self.finger_half(axis);
         let up = Vector3::new(0.0, 0.0, self.inst.gripper.finger_length / 2.0);
         let above = Vector3::new(start.x, start.y, self.free_height().max(start.z));
-        let mut watch = self.watch(line);
+        let mut watch = self.watch(&self.in_container, None);
         let pusher = self.world.kinematic_box(fhalf, above + up, None);
         self.move_rigid(&[(pusher, up)], above, start, self.opts.move_speed, &mut watch);
         // Lateral drift and rotation are measured over the push itself.
-        let mut pushing = self.watch_only(line);
+        let mut pushing = self.watch(line, Some(lateral));
         let n = steps_for((end - start).norm(), self.opts.push_speed, self.opts.dt);
         for s in 1..=n {
             let p = start + (end - start) * (s as f64 / n as f64);
             self.world.drive(pusher, p + up);
             self.world.step();
             self.observe(&mut watch);
-            self.observe_lateral(&mut pushing, lateral);
+            self.observe(&mut pushing);
         }
         let top = Vector3::new(end.x, end.y, self.free_height().max(end.z));
         self.move_rigid(&[(pusher, up)], end, top, self.opts.move_speed, &mut watch);
         self.world.remove(pusher);
         self.settle(&mut watch);
-        self.observe_lateral(&mut pushing, lateral);
+        self.observe(&mut pushing);
         ActionSim::new(
             step,
             "push",
@@ -337,10 +338,8 @@ impl Replay<'_> {
         }
     }
 
-    /// Start watching every box in the container (`line` first, in its order).
-    fn watch(&self, line: &[usize]) -> Watch {
-        let mut ids: Vec<usize> = line.to_vec();
-        ids.extend(self.in_container.iter().filter(|i| !line.contains(i)));
+    /// Start watching boxes `ids`: their drift along `lateral`, or in full without one.
+    fn watch(&self, ids: &[usize], lateral: Option<Axis2>) -> Watch {
         let start: Vec<_> = ids
             .iter()
             .map(|&i| (i, self.world.object_pose(i).expect("in the container")))
@@ -348,35 +347,18 @@ impl Replay<'_> {
         Watch {
             rotation: vec![0.0; start.len()],
             drift: vec![0.0; start.len()],
+            lateral,
             start,
         }
     }
 
-    /// Start watching `line` only.
-    fn watch_only(&self, line: &[usize]) -> Watch {
-        let mut w = self.watch(line);
-        w.start.truncate(line.len());
-        w.rotation.truncate(line.len());
-        w.drift.truncate(line.len());
-        w
-    }
-
-    /// Largest rotation and displacement of every watched box since the watch began.
+    /// Largest rotation and drift of every watched box since the watch began.
     fn observe(&self, w: &mut Watch) {
         for (k, (i, p0)) in w.start.iter().enumerate() {
             let p = self.world.object_pose(*i).expect("watched");
+            let d = p.translation.vector - p0.translation.vector;
             w.rotation[k] = w.rotation[k].max(p.rotation.angle_to(&p0.rotation));
-            w.drift[k] = w.drift[k].max((p.translation.vector - p0.translation.vector).norm());
-        }
-    }
-
-    /// Largest rotation and sideways drift (across the push) of the pushed boxes.
-    fn observe_lateral(&self, w: &mut Watch, lateral: Axis2) {
-        for (k, (i, p0)) in w.start.iter().enumerate() {
-            let p = self.world.object_pose(*i).expect("watched");
-            w.rotation[k] = w.rotation[k].max(p.rotation.angle_to(&p0.rotation));
-            let l = lateral.index();
-            w.drift[k] = w.drift[k].max((p.translation.vector[l] - p0.translation.vector[l]).abs());
+            w.drift[k] = w.drift[k].max(w.lateral.map_or(d.norm(), |l| d[l.index()].abs()));
         }
     }
 
