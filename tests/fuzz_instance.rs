@@ -129,8 +129,8 @@ fn template() -> Node {
             "robot",
             tab(vec![
                 ("arms", Arr(vec![Str("left".into()), Str("right".into())])),
-                ("table_z", Num(-0.20)),
-                ("tcp_offset", nums(&[-0.20, 0.0, 0.0])),
+                ("table_z", Num(-0.30)),
+                ("tcp_offset", nums(&[-0.30, 0.0, 0.0])),
                 ("transfer_clearance", Num(0.08)),
                 (
                     "home",

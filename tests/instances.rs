@@ -140,7 +140,8 @@ fn examples_plan_and_the_plans_verify() {
     }
 }
 
-/// The examples sit in the default work cell of SPEC §3 with boxes in the arms' table zones.
+/// The examples sit in the default work cell (docs/robot.md, "The work cell") with boxes in the
+/// arms' table zones.
 #[test]
 fn examples_use_the_default_work_cell() {
     for p in instance_files("examples") {
@@ -152,7 +153,8 @@ fn examples_use_the_default_work_cell() {
             "{what}"
         );
         assert!(approx_all(&c.center, &[0.30, 0.0]) && c.yaw == 0.0, "{what}");
-        assert!(approx(inst.robot.table_z, -0.20) && approx(c.floor_z, -0.20), "{what}");
+        let t = pushpack::robot::DEFAULT_TABLE_Z;
+        assert!(approx(inst.robot.table_z, t) && approx(c.floor_z, t), "{what}");
         for o in &inst.objects {
             let (x, y) = (o.table.x, o.table.y);
             assert!((0.20..=0.35).contains(&x), "{what}: {} x = {x}", o.id);
@@ -173,7 +175,7 @@ fn defaults_are_applied() {
     assert_eq!(r.tcp_offset, DEFAULT_TCP_OFFSET);
     assert_eq!(r.arms, vec![Arm::Left, Arm::Right]);
     assert_eq!(r.home, NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians)));
-    assert!(approx(r.table_z, -0.20));
+    assert!(approx(r.table_z, pushpack::robot::DEFAULT_TABLE_Z));
     assert!(approx(r.transfer_clearance, 0.08));
     assert!(approx(r.speed_scale, 0.9));
     assert!(approx(inst.container.floor_z, r.table_z));
@@ -563,7 +565,7 @@ fn mm_file_equals_its_metre_twin() {
     assert_same_geometry(&m, &mm);
     assert!(approx(mm.container.width, 0.30));
     assert!(approx(mm.settings.min_push_margin, 0.002));
-    assert!(approx(mm.robot.tcp_offset[0], -0.20));
+    assert!(approx(mm.robot.tcp_offset[0], -0.30));
 }
 
 /// A small cell written with every length multiplied by `k`.
@@ -623,7 +625,7 @@ y = {y2}
         t = l(0.012),
         cx = l(0.30),
         cy = l(0.0),
-        fz = l(-0.199),
+        fz = l(-0.299),
         ft = l(0.011),
         fw = l(0.021),
         fl = l(0.061),
@@ -632,10 +634,10 @@ y = {y2}
         rc = l(0.004),
         mof = l(0.02),
         ph = l(0.006),
-        tx = l(-0.2),
+        tx = l(-0.3),
         ty = l(0.001),
         tz = l(-0.002),
-        tbz = l(-0.2),
+        tbz = l(-0.3),
         tc = l(0.07),
         pm = l(0.003),
         pd = l(0.0015),

@@ -205,9 +205,9 @@ fn a_plan_for_another_instance_is_an_error_not_a_picture() {
 fn plan_without_a_sequence_still_writes_its_placement() {
     use pushpack::placement::PlacementResult;
     use pushpack::plan::{solve_placement, PlacementSolver};
-    // A* proves at its root that this Bottom-Left placement has no plan (the dense bottom row
-    // blocks every pick for good), so the run fails at once and deterministically.
-    let file = "instances/random/n12/n12_k4_s0016.toml";
+    // A* proves at its root that this Bottom-Left placement has no plan (the objects on the table
+    // block each other's picks for good), so the run fails at once and deterministically.
+    let file = "instances/random/n20/n20_k4_s0005.toml";
     let inst = Instance::load(file).unwrap();
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("plan.json"), "{}").unwrap();

@@ -182,7 +182,8 @@ fn astar_stopped_without_a_plan_reports_its_proven_bound() {
     }
 }
 
-/// `n12_k4_s0016`'s Bottom-Left placement has no plan (A* proves it at its root). With
+/// `n08_k4_s0011` behind 12 cm walls: its Bottom-Left placement has no plan (A* proves it at its
+/// root: the hand housing, 10 cm above the fingertips, cannot work next to those walls). With
 /// `placement_alternatives` the planner moves on to the next distinct Bottom-Left placements,
 /// each skipped one proven to have no plan as well, and returns a valid plan on the first that
 /// has one, saying which.
@@ -191,8 +192,11 @@ fn a_placement_proven_to_have_no_plan_falls_back_to_the_next_bl_placement() {
     use pushpack::control::TimeLimit;
     use pushpack::placement::bl;
     use pushpack::sequence::astar::{self, AstarSettings};
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("instances/random/n12/n12_k4_s0016.toml");
-    let inst = Instance::load(&path).unwrap();
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("instances/random/n08/n08_k4_s0011.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("wall_height = 0.1\n"));
+    let text = text.replace("wall_height = 0.1\n", "wall_height = 0.12\n");
+    let inst = Instance::parse(&text, false, "n08_k4_s0011 with 12 cm walls", None).unwrap();
     let mut o = PlanOptions::from_instance(&inst);
     o.placement = PlacementSolver::Bl;
     o.packing_only = common::packing_study(&inst);

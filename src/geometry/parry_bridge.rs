@@ -108,6 +108,19 @@ impl Solid {
             Solid::Ball { radius } => radius,
         }
     }
+
+    /// How far the solid, posed at `pose`, reaches along the unit direction `d` (the support
+    /// function: the largest `d · p` over its points).
+    pub fn support_extent(&self, pose: &Isometry3<f64>, d: &Vector3<f64>) -> f64 {
+        let l = pose.rotation.inverse() * d;
+        let c = d.dot(&pose.translation.vector);
+        match *self {
+            Solid::Cuboid { half } => c + l.abs().dot(&half),
+            Solid::Cylinder { radius, half_length } => c + radius * l.xy().norm() + half_length * l.z.abs(),
+            Solid::Capsule { a, b, radius } => c + l.dot(&a).max(l.dot(&b)) + radius,
+            Solid::Ball { radius } => c + radius,
+        }
+    }
 }
 
 /// A parry shape and the pose correction it needs (parry cylinders stand along y, URDF's along z).

@@ -39,7 +39,7 @@ pub struct GripperSpec {
     pub finger_thickness: f64,
     /// Finger width across the closing direction.
     pub finger_width: f64,
-    /// Finger length below the palm.
+    /// How far the fingers reach down beside a box (they hang from the hand housing to the TCP).
     pub finger_length: f64,
     /// Largest opening between the fingers.
     pub max_opening: f64,

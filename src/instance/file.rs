@@ -85,7 +85,8 @@ pub struct GripperFile {
     pub finger_thickness: f64,
     /// Width of a finger plate (across the grasp axis).
     pub finger_width: f64,
-    /// Length of a finger plate (vertical).
+    /// How far the fingers reach down beside a box (vertical). The plates hang from the hand
+    /// housing to the TCP, so the TCP must be at least this far below the housing.
     pub finger_length: f64,
     /// Maximum opening between the fingers.
     pub max_opening: f64,

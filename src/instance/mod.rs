@@ -206,7 +206,8 @@ pub struct Gripper {
     pub finger_thickness: f64,
     /// Width of a finger plate.
     pub finger_width: f64,
-    /// Length of a finger plate.
+    /// How far the fingers reach down beside a box; the plates hang from the hand housing to the
+    /// TCP, and must be at least this long (validated).
     pub finger_length: f64,
     /// Maximum opening.
     pub max_opening: f64,

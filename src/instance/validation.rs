@@ -237,7 +237,7 @@ pub(super) fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, d
     let r = &f.robot;
     let table_z = match r.table_z {
         Some(v) => l(c.finite("robot.table_z", v)?),
-        None => -0.20,
+        None => crate::robot::DEFAULT_TABLE_Z,
     };
     let mut container = container;
     container.floor_z = match cf.floor_z {
@@ -245,6 +245,25 @@ pub(super) fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, d
         None => table_z,
     };
     let robot = robot_cell(&c, r, scale, base_dir, table_z)?;
+    // The fingers hang below the hand housing: a TCP inside or just below the housing would put
+    // the housing on the objects it holds and pushes (the stock hand reaches 0.20 m down).
+    for arm in [Arm::Left, Arm::Right] {
+        let hand = robot.model.hand_bottom(arm);
+        let below = Vector3::from(robot.tcp_offset).norm() - hand;
+        if below < gripper.finger_length - 1e-9 {
+            return Err(c.err(
+                "robot.tcp_offset",
+                format!(
+                    "the TCP is {below:.4} m below the {} hand, which reaches {hand:.4} m below the wrist flange; \
+                     the fingers (gripper.finger_length = {:.4} m) must fit between them: put the TCP at least \
+                     {:.4} m from the flange",
+                    arm.name(),
+                    gripper.finger_length,
+                    hand + gripper.finger_length
+                ),
+            ));
+        }
+    }
 
     // Planner settings.
     let settings = planner_settings(&c, &f.planner, scale)?;

@@ -3,7 +3,7 @@
 //! Obstacles: the four container walls, the container floor (when it stands above the table),
 //! the table top, every object at its current place (table pose, release pose or target), and
 //! the idle arm. Robot parts: the primitives of the model's arm links and of links fixed to the
-//! wrist (palm), the two finger plates built from the instance's `[gripper]` (or one plate of
+//! wrist (the hand housing), the two finger plates built from the instance's `[gripper]` (or one plate of
 //! `finger_thickness` when closed — the spec's pusher), and the carried object. A part that
 //! penetrates an obstacle by more than [`CONTACT_TOLERANCE`] collides; touching does not (objects
 //! are packed with zero gaps and fingers close on objects). All queries go through
@@ -20,10 +20,6 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 /// zero gaps, so a held object slides down along its neighbours and fingers open against walls;
 /// planned straight lines are followed within `motion::LINE_TOLERANCE` = 0.05 mm, below this.
 pub const CONTACT_TOLERANCE: f64 = 1e-4;
-
-/// Distance from the wrist flange (origin of `*ARM_JOINT5_Link`) to the bottom of the palm of the
-/// bundled gripper (m): finger plates reach at least from the TCP up to there.
-pub const PALM_BOTTOM: f64 = 0.14;
 
 /// What an obstacle is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -228,9 +224,11 @@ pub fn robot_parts(model: &RobotModel, inst: &Instance, arm: Arm, q: &[f64; 6], 
         .collect();
     let tcp = model.tcp_pose(arm, q, &inst.robot.tcp_offset);
     let g = &inst.gripper;
+    // The plates run from the TCP up to the hand (validation keeps that at least
+    // `finger_length`), so nothing can pass between the fingertips and the housing.
     let reach = g
         .finger_length
-        .max(Vector3::from(inst.robot.tcp_offset).norm() - PALM_BOTTOM);
+        .max(Vector3::from(inst.robot.tcp_offset).norm() - model.hand_bottom(arm));
     let mut plate = |name: &str, y: f64| {
         let solid = Solid::Cuboid {
             half: Vector3::new(g.finger_width / 2.0, g.finger_thickness / 2.0, reach / 2.0),
@@ -265,6 +263,22 @@ pub fn robot_parts(model: &RobotModel, inst: &Instance, arm: Arm, q: &[f64; 6], 
         });
     }
     parts
+}
+
+/// The same parts grown by `d` on every side: a joint-space move is checked at samples, and a
+/// margin keeps what happens between them (and between the verifier's other samples) clear.
+pub fn grown(parts: &[Part], d: f64) -> Vec<Part> {
+    parts
+        .iter()
+        .map(|p| {
+            let solid = p.solid.shrunk(-d);
+            Part {
+                radius: solid.bounding_radius(),
+                solid,
+                ..p.clone()
+            }
+        })
+        .collect()
 }
 
 /// The parts of an idle arm as obstacles.

@@ -5,7 +5,8 @@
 //! `*ARM_JOINT0..5`). The chest joint is held at 0. The TCP sits at a fixed offset in the
 //! `*ARM_JOINT5_Link` frame, whose −x axis is the fingertip direction. The TCP *frame* has z along
 //! the approach (−x of `JOINT5_Link`), y along the finger closing axis (y of `JOINT5_Link`) and x
-//! toward the hand's thick side (z of `JOINT5_Link`); see `docs/robot.md`.
+//! along z of `JOINT5_Link` (the stock hand housing bulges 5.4 cm toward −x of the TCP frame and
+//! 3.6 cm toward +x); see `docs/robot.md`.
 //!
 //! * [`ik`] — inverse kinematics (damped least squares with a closed-form wrist-roll step).
 //!
@@ -26,10 +27,15 @@ pub const NEXTAGE_INITIAL_POSE_DEG: [[f64; 6]; 2] = [
     [-0.6, 0.0, -100.0, 15.2, 9.4, 3.2],
 ];
 
-/// Default TCP offset in the `*ARM_JOINT5_Link` frame: the fingertip centre of the bundled gripper,
-/// 0.20 m along −x of the wrist flange: at the standard initial pose the fingertips then hang
-/// 0.068 m above the default table (z = −0.20), as SPEC §3 describes.
-pub const DEFAULT_TCP_OFFSET: [f64; 3] = [-0.20, 0.0, 0.0];
+/// Default TCP offset in the `*ARM_JOINT5_Link` frame: the fingertip centre of the bundled
+/// gripper, whose 0.10 m finger plates hang below the stock hand housing (which itself reaches
+/// 0.20 m below the flange). At the standard initial pose the fingertips hang 0.068 m above the
+/// default table (`robot.table_z` = −0.30). Why 0.10 m: docs/robot.md, "The work cell".
+pub const DEFAULT_TCP_OFFSET: [f64; 3] = [-0.30, 0.0, 0.0];
+
+/// Default world z of the table top (`robot.table_z`), 0.10 m lower than the paper-era cell's
+/// −0.20 so that the wrist poses stay where they were with the 0.10 m longer TCP.
+pub const DEFAULT_TABLE_Z: f64 = -0.30;
 
 /// One revolute joint of an arm chain.
 #[derive(Debug, Clone, PartialEq)]
@@ -139,7 +145,7 @@ pub struct RobotModel {
 }
 
 /// Rotation of the TCP frame in the `*ARM_JOINT5_Link` frame: z = −x (approach), y = y (closing
-/// axis), x = z (thick side).
+/// axis), x = z.
 pub fn tcp_rotation_in_wrist() -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(Matrix3::new(0.0, 0.0, -1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0))
 }
@@ -227,6 +233,17 @@ impl RobotModel {
             }
         }
         Ok(RobotModel { base, arms, shapes })
+    }
+
+    /// How far the hand reaches below the wrist flange (m): the largest extent along −x of
+    /// `*ARM_JOINT5_Link` (the approach direction) of the collision primitives fixed to the
+    /// wrist. Fingers hang between there and the TCP. 0 when the model has no hand primitives.
+    pub fn hand_bottom(&self, arm: Arm) -> f64 {
+        self.shapes[arm.index()]
+            .iter()
+            .filter(|s| s.link == 5)
+            .map(|s| s.solid.support_extent(&s.origin, &-Vector3::x()))
+            .fold(0.0, f64::max)
     }
 
     /// Joint names of an arm, in chain order.
@@ -398,8 +415,9 @@ mod tests {
         let q = NEXTAGE_INITIAL_POSE_DEG.map(|a| a.map(f64::to_radians));
         let l = m.tcp_position(Arm::Left, &q[0], &DEFAULT_TCP_OFFSET);
         let r = m.tcp_position(Arm::Right, &q[1], &DEFAULT_TCP_OFFSET);
-        // SPEC §3: at the standard initial pose the hands hang about 0.07 m above the table (z = -0.20).
-        assert!(l.z > -0.20 + 0.03 && l.z < -0.20 + 0.12, "left TCP z = {}", l.z);
+        // At the standard initial pose the fingertips hang about 0.07 m above the default table.
+        let t = DEFAULT_TABLE_Z;
+        assert!(l.z > t + 0.03 && l.z < t + 0.12, "left TCP z = {}", l.z);
         assert!(l.y > 0.0 && r.y < 0.0);
         assert!(
             (l.y + r.y).abs() < 1e-9 && (l.x - r.x).abs() < 1e-9 && (l.z - r.z).abs() < 1e-9,

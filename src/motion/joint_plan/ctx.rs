@@ -90,7 +90,7 @@ impl Ctx<'_> {
             out.extend(self.other.iter().cloned());
             // A push's back object is where the action says (its target moved back by the push
             // distance) whatever the state: the pusher descends behind it and drives it, and a
-            // palm hanging below its top hits it.
+            // hand housing hanging below its top hits it.
             if let Action::Push {
                 objects,
                 push_dir,

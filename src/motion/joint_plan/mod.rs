@@ -14,8 +14,8 @@
 //! one with the least joint motion (and the larger joint margin) wins.
 
 use super::collision::{
-    arm_as_obstacles, clearance, first_collision, object_in_container, object_on_table, robot_parts, static_obstacles,
-    Hand, Held, Obstacle, ObstacleKind, Part, PartKind,
+    arm_as_obstacles, clearance, first_collision, grown, object_in_container, object_on_table, robot_parts,
+    static_obstacles, Hand, Held, Obstacle, ObstacleKind, Part, PartKind,
 };
 use super::keypoints::action_keypoints;
 use super::trajectory::{
@@ -65,6 +65,13 @@ pub const ROT_TOLERANCE: f64 = 5e-4;
 pub const MAX_LINE_STEP: f64 = 0.05;
 /// Joint step between collision samples of a joint-space move (rad).
 pub const COLLISION_STEP: f64 = 0.01;
+
+/// Clearance a joint-space move keeps from every obstacle (m). Its samples are
+/// [`COLLISION_STEP`] apart and the verifier samples the timed trajectory elsewhere; between
+/// samples a part can move a few millimetres, so a move that only grazes an obstacle at the
+/// samples may cut into it between them. Straight lines keep no margin: they touch on purpose
+/// (zero-gap packing) and are sampled to 0.05 mm.
+pub const JOINT_MOVE_MARGIN: f64 = 0.005;
 
 /// How a segment is moved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

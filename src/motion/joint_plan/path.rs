@@ -116,7 +116,9 @@ pub(super) fn refine(
     Ok(())
 }
 
-/// Collision check of configurations `qs` of `arm` with hand `hand` during segment `seg`.
+/// Collision check of configurations `qs` of `arm` with hand `hand` during segment `seg`; the
+/// robot's parts grown by `margin` (0 for straight lines, which may touch; [`JOINT_MOVE_MARGIN`]
+/// for joint-space moves).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn check_samples(
     ctx: &Ctx,
@@ -127,6 +129,7 @@ pub(super) fn check_samples(
     qs: &[[f64; 6]],
     what: &str,
     min_clear: &mut f64,
+    margin: f64,
 ) -> Result<(), RobotError> {
     if ctx.scope == Scope::Kinematic {
         return Ok(());
@@ -144,6 +147,11 @@ pub(super) fn check_samples(
     let report_clearance = ctx.scope == Scope::Full;
     for (k, q) in qs.iter().enumerate() {
         let parts = robot_parts(model, ctx.inst, arm, q, hand);
+        let tested = if margin > 0.0 {
+            grown(&parts, margin)
+        } else {
+            parts.clone()
+        };
         let tcp = solver.fk(q).translation.vector;
         let moved_obs;
         let obs = if moving {
@@ -153,7 +161,7 @@ pub(super) fn check_samples(
             &fixed_obs
         };
         let skip = Ctx::skip(action, seg);
-        if let Some((p, o)) = first_collision(&parts, obs, &skip) {
+        if let Some((p, o)) = first_collision(&tested, obs, &skip) {
             return Err(RobotError::Collision {
                 what: what.to_string(),
                 part: p.name.clone(),
@@ -182,9 +190,16 @@ pub(super) fn densify(path: &[[f64; 6]]) -> Vec<[f64; 6]> {
     out
 }
 
-/// A move to `target` in joint space; where that collides, a straight line; where that collides
-/// too and the start is below transfer height, straight up to transfer height first and then a
-/// joint move (or a line). Returns the legs.
+/// Extra height of the last resort in [`joint_move`] above the transfer height (m): open fingers
+/// turning between two poses near a wall can dip below its top in a joint move at transfer
+/// height, and a straight line may not be followable through the turn.
+const HIGH_TRANSFER_LIFT: f64 = 0.10;
+
+/// A move to `target` in joint space; where that collides, a straight line. Where that collides
+/// too, the move is made at a clear height instead: straight up from the start to that height
+/// (if below it), a joint move (or a line) to the target raised to that height, and straight
+/// down to the target (if below it). The clear heights tried are the transfer height and
+/// [`HIGH_TRANSFER_LIFT`] above it. Returns the legs.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn joint_move(
     ctx: &Ctx,
@@ -197,7 +212,9 @@ pub(super) fn joint_move(
     what: &str,
     min_clear: &mut f64,
 ) -> Result<Legs, RobotError> {
-    let check = |p: &[[f64; 6]], mc: &mut f64| check_samples(ctx, solver, action, seg, hand, &densify(p), what, mc);
+    let check = |p: &[[f64; 6]], mc: &mut f64, margin: f64| {
+        check_samples(ctx, solver, action, seg, hand, &densify(p), what, mc, margin)
+    };
     let from = solver.fk(q);
     // The predicate only needs some branch at the target (the joint move is not checked); the
     // nearest one costs a search over every IK seed when the move is long.
@@ -214,36 +231,81 @@ pub(super) fn joint_move(
     if ctx.scope != Scope::Full {
         return Ok(vec![joint]);
     }
-    let joint_err = match check(&joint, min_clear) {
+    let joint_err = match check(&joint, min_clear, JOINT_MOVE_MARGIN) {
         Ok(()) => return Ok(vec![joint]),
         Err(e) => e,
     };
     if let Ok(line) = follow_line(solver, q, &from, target, what) {
-        if check(&line, min_clear).is_ok() {
+        if check(&line, min_clear, 0.0).is_ok() {
             return Ok(vec![line]);
         }
     }
     let zt = crate::motion::keypoints::transfer_z(ctx.inst);
-    if from.translation.vector.z < zt - 1e-6 {
-        let mut up = from;
-        up.translation.vector.z = zt;
-        let Ok(rise) = follow_line(solver, q, &from, &up, what) else {
-            return Err(joint_err);
-        };
-        if check(&rise, min_clear).is_err() {
-            return Err(joint_err);
-        }
-        let q1 = *rise.last().expect("non-empty");
-        let qt = solver.solve_near(target, &q1)?;
-        let joint = vec![q1, qt];
-        if check(&joint, min_clear).is_ok() {
-            return Ok(vec![rise, joint]);
-        }
-        if let Ok(line) = follow_line(solver, &q1, &up, target, what) {
-            if check(&line, min_clear).is_ok() {
-                return Ok(vec![rise, line]);
-            }
+    for h in [zt, zt + HIGH_TRANSFER_LIFT] {
+        if let Some(legs) = move_at_height(solver, q, &from, target, h, what, &check, min_clear) {
+            return Ok(legs);
         }
     }
     Err(joint_err)
+}
+
+/// A collision check of a sampled path (path, smallest clearance so far, margin).
+type SampleCheck<'a> = dyn Fn(&[[f64; 6]], &mut f64, f64) -> Result<(), RobotError> + 'a;
+
+/// The legs of a move from `from` (configuration `q`) to `target` made at height `h`: up, across
+/// (joint move, else a line), down; `None` when a leg cannot be followed or collides, or when
+/// neither end is below `h` (then this is the direct move, already tried).
+#[allow(clippy::too_many_arguments)]
+fn move_at_height(
+    solver: &IkSolver,
+    q: &[f64; 6],
+    from: &Isometry3<f64>,
+    target: &Isometry3<f64>,
+    h: f64,
+    what: &str,
+    check: &SampleCheck,
+    min_clear: &mut f64,
+) -> Option<Legs> {
+    let raise = |p: &Isometry3<f64>| {
+        let mut up = *p;
+        up.translation.vector.z = h;
+        up
+    };
+    let (rise_start, descend) = (
+        from.translation.vector.z < h - 1e-6,
+        target.translation.vector.z < h - 1e-6,
+    );
+    if !rise_start && !descend {
+        return None;
+    }
+    let mut legs = Vec::new();
+    let (mut q1, mut p1) = (*q, *from);
+    if rise_start {
+        let up = raise(from);
+        let rise = follow_line(solver, q, from, &up, what).ok()?;
+        check(&rise, min_clear, 0.0).ok()?;
+        q1 = *rise.last().expect("non-empty");
+        p1 = up;
+        legs.push(rise);
+    }
+    let top = if descend { raise(target) } else { *target };
+    let across = {
+        let qt = solver.solve_near(&top, &q1).ok()?;
+        let joint = vec![q1, qt];
+        if check(&joint, min_clear, JOINT_MOVE_MARGIN).is_ok() {
+            joint
+        } else {
+            let line = follow_line(solver, &q1, &p1, &top, what).ok()?;
+            check(&line, min_clear, 0.0).ok()?;
+            line
+        }
+    };
+    let q2 = *across.last().expect("non-empty");
+    legs.push(across);
+    if descend {
+        let down = follow_line(solver, &q2, &top, target, what).ok()?;
+        check(&down, min_clear, 0.0).ok()?;
+        legs.push(down);
+    }
+    Some(legs)
 }

@@ -9,8 +9,8 @@ pub fn robot_info(inst: &Instance, opts: &TrajectoryOptions) -> RobotInfo {
         model: inst.robot.model_path.clone(),
         tcp_offset: inst.robot.tcp_offset,
         base_frame: "WAIST".into(),
-        tcp_frame: "TCP at tcp_offset in *ARM_JOINT5_Link; rotation columns: x = thick side of the hand \
-                    (JOINT5_Link z), y = finger closing axis (JOINT5_Link y), z = approach (JOINT5_Link -x)"
+        tcp_frame: "TCP at tcp_offset in *ARM_JOINT5_Link; rotation columns: x = JOINT5_Link z \
+                    (the hand housing's narrow side), y = finger closing axis (JOINT5_Link y), z = approach (JOINT5_Link -x)"
             .into(),
         joint_names_left: m.joint_names(Arm::Left),
         joint_names_right: m.joint_names(Arm::Right),
@@ -71,7 +71,17 @@ pub(super) fn home_move(
     let mut q = *from;
     for (target_q, target_pose) in [(via, above), (home, home_pose)] {
         let joint = vec![q, target_q];
-        let leg = match check_samples(&ctx, &solver, &idle, 0, &hand, &densify(&joint), &what, &mut clear) {
+        let leg = match check_samples(
+            &ctx,
+            &solver,
+            &idle,
+            0,
+            &hand,
+            &densify(&joint),
+            &what,
+            &mut clear,
+            JOINT_MOVE_MARGIN,
+        ) {
             Ok(()) => joint,
             Err(e) => {
                 let mut line = follow_line(&solver, &q, &solver.fk(&q), &target_pose, &what).map_err(|_| e.clone())?;
@@ -79,7 +89,8 @@ pub(super) fn home_move(
                     return Err(e);
                 }
                 *line.last_mut().expect("non-empty") = target_q;
-                check_samples(&ctx, &solver, &idle, 0, &hand, &densify(&line), &what, &mut clear).map_err(|_| e)?;
+                check_samples(&ctx, &solver, &idle, 0, &hand, &densify(&line), &what, &mut clear, 0.0)
+                    .map_err(|_| e)?;
                 line
             }
         };

@@ -40,7 +40,7 @@ pub(super) fn plan_variant(
                     || key_bits(2, solver.arm(), &[&from, &sp.target], Some(&q), &[tol]),
                     || follow_line_tol(solver, &q, &from, &sp.target, &what, tol),
                 )?;
-                check_samples(ctx, solver, action, k, &hand, &densify(&p), &what, &mut min_clear)?;
+                check_samples(ctx, solver, action, k, &hand, &densify(&p), &what, &mut min_clear, 0.0)?;
                 vec![p]
             }
             Move::Joint => joint_move(ctx, solver, action, k, &hand, &q, &sp.target, &what, &mut min_clear)?,
