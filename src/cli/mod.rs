@@ -143,7 +143,7 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
-    /// Draw a plan: placement.svg, storyboard.svg, swept.svg.
+    /// Draw a plan: placement.svg, storyboard.svg, swept.svg, and view.html (the plan in 3-D).
     Render {
         /// plan.json.
         plan: PathBuf,

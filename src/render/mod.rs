@@ -11,7 +11,9 @@
 //!   release pose, the acting object highlighted with its finger slabs (places) or the pusher,
 //!   its sweep and the push distance (pushes);
 //! * `swept.svg` — the swept area (bounding rectangle from C's origin of every footprint so far,
-//!   releases included) after each step, as a step plot.
+//!   releases included) after each step, as a step plot;
+//! * `view.html` — the plan played in 3-D (arms, hands, objects, container), a self-contained
+//!   page for any browser ([`view_html`]; plans with joint trajectories only).
 //!
 //! [`render_placement`] writes `placement.svg` alone, from a placement stage result, for runs
 //! whose sequence stage found no plan.
@@ -33,13 +35,15 @@ use svg::{text_width, tint, Anchor, Paint, Svg};
 mod placement;
 mod storyboard;
 mod swept;
+mod view;
 
 use placement::*;
 use storyboard::*;
 use swept::*;
+pub use view::view_html;
 
-/// Write `placement.svg`, `storyboard.svg` and `swept.svg` for `plan` into `out_dir` (created if
-/// missing); returns the paths written.
+/// Write `placement.svg`, `storyboard.svg`, `swept.svg` and (for a plan with joint trajectories)
+/// `view.html` for `plan` into `out_dir` (created if missing); returns the paths written.
 pub fn render(inst: &Instance, plan: &Plan, out_dir: &Path) -> Result<Vec<PathBuf>> {
     let placement = plan.placement(inst)?;
     let actions = plan.actions(inst)?;
@@ -63,8 +67,13 @@ pub fn render(inst: &Instance, plan: &Plan, out_dir: &Path) -> Result<Vec<PathBu
         ),
         ("swept.svg", swept_svg(inst, plan, &placement, &actions, &story)),
     ];
+    let view = if plan.trajectories.iter().any(|t| !t.points.is_empty()) {
+        Some(("view.html", view_html(inst, plan)?))
+    } else {
+        None
+    };
     let mut out = Vec::new();
-    for (name, text) in files {
+    for (name, text) in files.into_iter().chain(view) {
         let path = out_dir.join(name);
         std::fs::write(&path, text).map_err(|e| Error::Io {
             path: path.clone(),
