@@ -296,9 +296,12 @@ pub fn view_html(inst: &Instance, plan: &Plan) -> Result<String> {
         colours.join(","),
         labels.join(","),
     );
+    // `<` escaped inside the script, so that no id (`</script>`) can end it; the title first,
+    // so that no name in the data is taken for the title's slot.
+    let data = data.replace('<', "\\u003c");
     Ok(PAGE
-        .replace("/*DATA*/null", &data)
-        .replace("{{TITLE}}", &html_escape(&inst.name)))
+        .replace("{{TITLE}}", &html_escape(&inst.name))
+        .replace("/*DATA*/null", &data))
 }
 
 fn json_string(s: &str) -> String {
