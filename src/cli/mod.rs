@@ -3,7 +3,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use pushpack::error::Error;
-use pushpack::instance::{Instance, MAX_TIME_LIMIT};
+use pushpack::instance::{Instance, MAX_OFFSET_STEPS, MAX_TIME_LIMIT};
 use pushpack::plan::{optimize, optimize_stages, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer};
 use pushpack::render::{render, render_placement};
 use pushpack::simulate::SimOptions;
@@ -268,6 +268,17 @@ struct PlanArgs {
     /// placements, best first (default 0: keep the placement).
     #[arg(long, value_name = "N", default_value_t = 0)]
     placement_alternatives: usize,
+    /// A* only: largest indirect offset in multiples of the minimum offset (default: the
+    /// instance's planner.max_offset_steps, else 3).
+    #[arg(long, value_name = "M")]
+    max_offset_steps: Option<usize>,
+    /// A* only, developer diagnostics: print the search's phases and bounds to stderr.
+    #[arg(long)]
+    astar_trace: bool,
+    /// A* only, developer diagnostics: time the bound computations and print a profile to
+    /// stderr at the end.
+    #[arg(long)]
+    astar_profile: bool,
 }
 
 impl PlanArgs {
@@ -299,6 +310,18 @@ impl PlanArgs {
         }
         o.placement_alternatives = self.placement_alternatives;
         o.packing_only |= self.packing_only;
+        if let Some(m) = self.max_offset_steps {
+            if m == 0 || m > MAX_OFFSET_STEPS {
+                return Err(Error::input(
+                    "<command line>",
+                    "--max-offset-steps",
+                    format!("must be 1..={MAX_OFFSET_STEPS}, got {m}"),
+                ));
+            }
+            o.astar.max_offset_steps = m;
+        }
+        o.astar.trace |= self.astar_trace;
+        o.astar.profile |= self.astar_profile;
         Ok(o)
     }
 }

@@ -110,15 +110,7 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             entry
         })
         .collect();
-    let (robot, trajectories) = crate::motion::plan_trajectories(
-        inst,
-        p,
-        &sr.actions,
-        &crate::motion::TrajectoryOptions {
-            velocity_scale: inst.robot.speed_scale,
-            ..Default::default()
-        },
-    );
+    let (robot, trajectories) = crate::motion::plan_trajectories(inst, p, &sr.actions, &opts.trajectory);
     let placement_status = placement_status(pr);
     let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
     Plan {
