@@ -326,7 +326,7 @@ pub fn sequence_placement_with(
     });
     let clock = TimeLimit::new(time_limit);
     let limit = Either(&clock, stop);
-    let first = sequence_one(inst, opts, &placement.placement, &limit);
+    let first = sequence_one(inst, opts, &placement.placement, &limit, listener);
     let reason = match first {
         Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0, stop, listener)),
         Err(Error::Infeasible { reason }) if opts.placement_alternatives > 0 => reason,
@@ -346,7 +346,7 @@ pub fn sequence_placement_with(
             break;
         }
         tried += 1;
-        match sequence_one(inst, opts, &alt, &limit) {
+        match sequence_one(inst, opts, &alt, &limit, listener) {
             Ok(sequence) => {
                 let pr = PlacementResult {
                     placement: alt,
@@ -381,6 +381,7 @@ fn sequence_one(
     opts: &PlanOptions,
     placement: &Placement,
     limit: &dyn Terminator,
+    listener: &mut dyn Listener,
 ) -> Result<SequenceResult> {
     let seq_opts = SequenceOptions {
         no_direct: opts.no_direct,
@@ -389,7 +390,7 @@ fn sequence_one(
     };
     match opts.sequencer {
         Sequencer::Paper => sequence::paper::solve(inst, placement, &seq_opts, limit),
-        Sequencer::Astar => sequence::astar::solve(inst, placement, &seq_opts, &opts.astar, limit),
+        Sequencer::Astar => sequence::astar::solve_with(inst, placement, &seq_opts, &opts.astar, limit, listener),
     }
 }
 

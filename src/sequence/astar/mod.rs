@@ -18,7 +18,7 @@
 
 use super::{metrics, SearchStatus, SequenceOptions, SequenceResult};
 use crate::actions::{push, Action, Layout, ObjState, PlaceMode};
-use crate::control::Terminator;
+use crate::control::{Event, Listener, Silent, Stage, Terminator, Ticker};
 use crate::error::{Error, Result};
 use crate::geometry::Arm;
 use crate::geometry::{Axis2, PushDir, EPS};
