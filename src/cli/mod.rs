@@ -885,6 +885,29 @@ fn print_ablations(inst: &Instance, base: &PlanOptions) -> Result<(), Error> {
     Ok(())
 }
 
+/// One line per push whose back object first closes a gap alone (`travel_phase` in plan.json):
+/// how far it moves, how much it turns and drifts meanwhile, and the share of the instance's
+/// tolerances that uses (docs/push_stability.md §5.4). A share near 100 % is the push to watch
+/// when the plan is run.
+fn print_travel_phases(plan: &Plan) {
+    for a in &plan.actions {
+        if let Some(t) = &a.travel_phase {
+            println!("{}", travel_line(a.step, t));
+        }
+    }
+}
+
+fn travel_line(step: usize, t: &pushpack::plan::TravelPhase) -> String {
+    format!(
+        "travel     push {step}: {} closes {:.1} mm alone, turning {:.2}° and drifting {:.2} mm ({:.0} % of the tolerances)",
+        t.object,
+        t.gap * 1e3,
+        t.rotation.to_degrees(),
+        t.drift * 1e3,
+        t.usage * 100.0
+    )
+}
+
 fn print_summary(inst: &Instance, o: &PlanOutcome) {
     let m = &o.plan.metrics;
     let ps = &o.plan.placement;
@@ -916,6 +939,7 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
         m.seq_len, m.n_place_direct, m.n_place_indirect, m.n_push, m.n_multi_push
     );
     println!("swept area {:.1} cm²   travel {:.3} m", m.swept_area * 1e4, m.travel);
+    print_travel_phases(&o.plan);
     let ss = &o.plan.solver.sequence;
     if let Some(b) = ss.cost_bound.filter(|_| ss.status != pushpack::status::Status::Optimal) {
         // Stopped early: the per-component bounds the plan is measured against.
@@ -945,4 +969,24 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
             None => String::new(),
         }
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_travel_phase_is_printed_in_millimetres_degrees_and_per_cent() {
+        let t = pushpack::plan::TravelPhase {
+            object: "b".into(),
+            gap: 0.015,
+            rotation: 0.6f64.to_radians(),
+            drift: 0.0002,
+            usage: 0.6,
+        };
+        assert_eq!(
+            travel_line(3, &t),
+            "travel     push 3: b closes 15.0 mm alone, turning 0.60° and drifting 0.20 mm (60 % of the tolerances)"
+        );
+    }
 }
