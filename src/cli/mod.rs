@@ -367,6 +367,7 @@ pub fn main() -> i32 {
     }
 }
 
+/// One arm per subcommand; the longer ones are `cmd_*` functions of their own.
 fn run(cmd: Cmd) -> Result<i32, Error> {
     match cmd {
         Cmd::Validate { instance } => {
@@ -409,95 +410,8 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             no_render,
             compare_ablations,
         } => cmd_plan(instance, out, opts, no_render, compare_ablations),
-        Cmd::Verify {
-            instance,
-            plan,
-            json,
-            packing_only,
-            simulate,
-        } => {
-            let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
-            let mut report = verify(&inst, &p);
-            report.packing_only |= packing_only;
-            let sim = if simulate {
-                Some(pushpack::simulate::simulate(
-                    &inst,
-                    &p,
-                    &SimOptions::from_instance(&inst),
-                )?)
-            } else {
-                None
-            };
-            if json {
-                let v = match &sim {
-                    None => serde_json::to_value(&report),
-                    Some(s) => serde_json::to_value(serde_json::json!({ "verify": &report, "simulation": s })),
-                };
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&v.expect("serialisable")).expect("serialisable")
-                );
-            } else {
-                println!("{report}");
-                if let Some(s) = &sim {
-                    print!("{s}");
-                }
-            }
-            let sim_ok = sim.as_ref().is_none_or(|s| s.ok);
-            Ok(if report.is_valid() && sim_ok {
-                EXIT_OK
-            } else {
-                EXIT_FAIL
-            })
-        }
-        Cmd::Simulate {
-            plan,
-            instance,
-            json,
-            dt,
-            push_speed,
-            contact_hz,
-            sweep,
-        } => {
-            let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
-            for (flag, v) in flags {
-                if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
-                    return Err(Error::input(
-                        "<command line>",
-                        flag,
-                        format!("must be a finite number > 0, got {v}"),
-                    ));
-                }
-            }
-            let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
-            let d = SimOptions::from_instance(&inst);
-            let opts = SimOptions {
-                dt: dt.unwrap_or(d.dt),
-                push_speed: push_speed.unwrap_or(d.push_speed),
-                contact_hz: contact_hz.unwrap_or(d.contact_hz),
-                ..d
-            };
-            if sweep {
-                let runs = pushpack::simulate::sweep::sweep(&inst, &p, &opts)?;
-                if json {
-                    println!("{}", serde_json::to_string_pretty(&runs).expect("serialisable"));
-                } else {
-                    print!("{}", pushpack::simulate::sweep::sweep_table(&runs));
-                }
-                return Ok(if runs.iter().all(|r| r.report.ok) {
-                    EXIT_OK
-                } else {
-                    EXIT_FAIL
-                });
-            }
-            let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
-            } else {
-                print!("{report}");
-            }
-            Ok(if report.ok { EXIT_OK } else { EXIT_FAIL })
-        }
+        cmd @ Cmd::Verify { .. } => cmd_verify(cmd),
+        cmd @ Cmd::Simulate { .. } => cmd_simulate(cmd),
         Cmd::Export { plan, format, out } => {
             let p = Plan::load(&plan)?;
             let fmt: pushpack::plan::export::ExportFormat = format
@@ -584,6 +498,108 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             Ok(EXIT_OK)
         }
     }
+}
+
+/// `pushpack verify`: the verifier's report (and the physics replay's with `--simulate`).
+fn cmd_verify(cmd: Cmd) -> Result<i32, Error> {
+    let Cmd::Verify {
+        instance,
+        plan,
+        json,
+        packing_only,
+        simulate,
+    } = cmd
+    else {
+        unreachable!("run dispatches only Cmd::Verify here")
+    };
+    let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
+    let mut report = verify(&inst, &p);
+    report.packing_only |= packing_only;
+    let sim = if simulate {
+        Some(pushpack::simulate::simulate(
+            &inst,
+            &p,
+            &SimOptions::from_instance(&inst),
+        )?)
+    } else {
+        None
+    };
+    if json {
+        let v = match &sim {
+            None => serde_json::to_value(&report),
+            Some(s) => serde_json::to_value(serde_json::json!({ "verify": &report, "simulation": s })),
+        };
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v.expect("serialisable")).expect("serialisable")
+        );
+    } else {
+        println!("{report}");
+        if let Some(s) = &sim {
+            print!("{s}");
+        }
+    }
+    let sim_ok = sim.as_ref().is_none_or(|s| s.ok);
+    Ok(if report.is_valid() && sim_ok {
+        EXIT_OK
+    } else {
+        EXIT_FAIL
+    })
+}
+
+/// `pushpack simulate`: one physics replay, or `--sweep` over the settings a push must not
+/// depend on.
+fn cmd_simulate(cmd: Cmd) -> Result<i32, Error> {
+    let Cmd::Simulate {
+        plan,
+        instance,
+        json,
+        dt,
+        push_speed,
+        contact_hz,
+        sweep,
+    } = cmd
+    else {
+        unreachable!("run dispatches only Cmd::Simulate here")
+    };
+    let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
+    for (flag, v) in flags {
+        if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
+            return Err(Error::input(
+                "<command line>",
+                flag,
+                format!("must be a finite number > 0, got {v}"),
+            ));
+        }
+    }
+    let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
+    let d = SimOptions::from_instance(&inst);
+    let opts = SimOptions {
+        dt: dt.unwrap_or(d.dt),
+        push_speed: push_speed.unwrap_or(d.push_speed),
+        contact_hz: contact_hz.unwrap_or(d.contact_hz),
+        ..d
+    };
+    if sweep {
+        let runs = pushpack::simulate::sweep::sweep(&inst, &p, &opts)?;
+        if json {
+            println!("{}", serde_json::to_string_pretty(&runs).expect("serialisable"));
+        } else {
+            print!("{}", pushpack::simulate::sweep::sweep_table(&runs));
+        }
+        return Ok(if runs.iter().all(|r| r.report.ok) {
+            EXIT_OK
+        } else {
+            EXIT_FAIL
+        });
+    }
+    let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
+    } else {
+        print!("{report}");
+    }
+    Ok(if report.ok { EXIT_OK } else { EXIT_FAIL })
 }
 
 /// `pushpack bench`.
