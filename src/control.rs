@@ -135,11 +135,56 @@ pub enum Event {
         /// Its proven lower bound on that objective, when it has one.
         bound: Option<f64>,
     },
+    /// A search inside a stage is under way: at most one every [`PROGRESS_INTERVAL`], from the
+    /// A* sequencer (the other searches report only their stage's start and finish).
+    Progress {
+        /// The stage.
+        stage: Stage,
+        /// Search nodes so far (sequence: A* expansions; 0 while A* still proves its lower
+        /// bound on the number of actions, before the main search).
+        nodes: u64,
+        /// The best solution's objective so far, when there is one (sequence: number of
+        /// actions).
+        incumbent: Option<f64>,
+        /// The proven lower bound on that objective so far.
+        bound: Option<f64>,
+    },
 }
 
-/// Receives progress events from a run ([`crate::plan::optimize_with`]).
+/// Least time between two [`Event::Progress`] of one search: often enough for a live display,
+/// rarely enough that building and handing over an event costs nothing measurable.
+pub const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
+
+/// Decides when a search may send its next [`Event::Progress`]: a clock read per call, so a
+/// search can ask at every node.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Ticker {
+    next: Instant,
+}
+
+impl Ticker {
+    /// The first event is due one interval from now: a search that ends sooner sends none.
+    pub(crate) fn new() -> Ticker {
+        Ticker {
+            next: Instant::now() + PROGRESS_INTERVAL,
+        }
+    }
+    /// True at most once per [`PROGRESS_INTERVAL`].
+    pub(crate) fn due(&mut self) -> bool {
+        let now = Instant::now();
+        if now < self.next {
+            return false;
+        }
+        self.next = now + PROGRESS_INTERVAL;
+        true
+    }
+}
+
+/// Receives progress events from a run ([`crate::plan::optimize_with`]): every stage's start
+/// and finish, and [`Event::Progress`] from inside a search at most every
+/// [`PROGRESS_INTERVAL`].
 pub trait Listener {
-    /// Called at every event, on the planning thread: keep it quick.
+    /// Called at every event, on the planning thread, which waits for it: keep it quick.
     fn event(&mut self, event: &Event);
 }
 

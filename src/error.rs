@@ -98,3 +98,24 @@ fn min_actions_note(min_actions: &Option<usize>) -> String {
 
 /// Result alias used across the crate.
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A HiGHS failure is a fault: it carries no status (so no stage, plan file, CLI line or
+    /// benchmark row can read it as `infeasible`), and it is not bad input (exit code 1, not 2).
+    /// Provoking a real HiGHS failure needs a hook inside `placement::milp` (docs/architecture.md).
+    #[test]
+    fn a_solver_failure_is_an_error_never_a_status() {
+        let e = Error::Solver {
+            solver: "HiGHS".into(),
+            reason: "kError".into(),
+        };
+        assert_eq!(e.status(), None);
+        assert!(!e.is_input());
+        assert!(!e.to_string().contains("infeasible") && !e.to_string().contains("no feasible plan"));
+        let proven = Error::Infeasible { reason: "x".into() };
+        assert_eq!(proven.status(), Some(Status::Infeasible));
+    }
+}

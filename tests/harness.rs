@@ -6,6 +6,7 @@ use pushpack::bench::row::{read_jsonl, ResultRow, RunStatus};
 use pushpack::instance::Instance;
 use pushpack::plan::Plan;
 use pushpack::report::load_rows;
+use pushpack::status::Status;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -326,7 +327,7 @@ fn a_node_limit_stop_is_recorded_as_node_limit_not_timeout() {
     ]);
     let (rows, _) = read_jsonl(&out.join("results.jsonl")).unwrap();
     assert_eq!(rows.len(), 1, "{}", String::from_utf8_lossy(&o.stdout));
-    assert_eq!(rows[0].status, RunStatus::NodeLimit, "{:?}", rows[0]);
+    assert_eq!(rows[0].status, RunStatus::Planner(Status::NodeLimit), "{:?}", rows[0]);
     assert!(
         rows[0].error.as_deref().unwrap_or("").contains("node limit"),
         "{:?}",
@@ -346,7 +347,7 @@ fn a_node_limit_stop_is_recorded_as_node_limit_not_timeout() {
     )
     .unwrap();
     let (rows, _) = read_jsonl(&old).unwrap();
-    assert_eq!(rows[0].status, RunStatus::NodeLimit);
+    assert_eq!(rows[0].status, RunStatus::Planner(Status::NodeLimit));
 }
 
 /// A mixed run of a heuristic and the exact pipeline on the same instances: only the pipeline
@@ -365,10 +366,10 @@ fn no_heuristic_row_is_reported_optimal() {
             assert!(r.solved(), "{rel} {planner}: {r:?}");
             let heuristic = planner.contains("paper") || planner.starts_with("bl");
             if heuristic {
-                assert_eq!(r.status, RunStatus::Heuristic, "{rel} {planner}");
+                assert_eq!(r.status, RunStatus::Planner(Status::Heuristic), "{rel} {planner}");
                 assert!(!r.proven());
             } else {
-                assert_eq!(r.status, RunStatus::Optimal, "{rel} {planner}");
+                assert_eq!(r.status, RunStatus::Planner(Status::Optimal), "{rel} {planner}");
                 assert!(r.proven());
             }
             assert!(r.robot_time_s.is_some_and(|t| t > 0.0), "{rel} {planner}");

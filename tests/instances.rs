@@ -69,6 +69,13 @@ const INVALID: &[(&str, &str, &str)] = &[
     ("syntax_error.json", "<syntax>", "line"),
     ("syntax_error.toml", "<syntax>", "line"),
     ("time_limit_too_large.toml", "planner.time_limit", "at most"),
+    (
+        "offset_steps_too_large.toml",
+        "planner.max_offset_steps",
+        "must be 1..=100",
+    ),
+    ("sample_dt_too_large.toml", "planner.sample_dt", "at most 1 s"),
+    ("packing_only_not_bool.toml", "planner.packing_only", "invalid type"),
     ("too_low_to_grasp.toml", "objects[0]", "cannot be picked up"),
     ("under_home_hand.toml", "objects[0]", "under the left hand"),
     ("unknown_field.json", "friction.mu_table", "unknown field"),
@@ -187,6 +194,47 @@ fn defaults_are_applied() {
         assert_eq!(o.table.up, pushpack::geometry::BodyAxis::Z);
         assert_eq!((o.mu_floor, o.mu_obj, o.mu_finger), (0.35, 0.4, 0.6));
     }
+}
+
+/// Every `[planner]` key reaches the one options tree of a run, and the defaults of the keys a
+/// file leaves out are the stages' own.
+#[test]
+fn planner_table_fills_plan_options() {
+    use pushpack::motion::TrajectoryOptions;
+    use pushpack::plan::PlanOptions;
+    use pushpack::sequence::astar::AstarSettings;
+    let text = std::fs::read_to_string(root().join("instances/examples/two_boxes.toml")).unwrap();
+    let plain = Instance::parse(&text, false, "<two_boxes>", None).unwrap();
+    let o = PlanOptions::from_instance(&plain);
+    assert!(!o.packing_only);
+    assert_eq!(o.astar, AstarSettings::default());
+    assert_eq!(
+        o.trajectory,
+        TrajectoryOptions {
+            velocity_scale: plain.robot.speed_scale,
+            ..TrajectoryOptions::default()
+        }
+    );
+    let tuned = text.replace(
+        "[[kinds]]",
+        "[planner]\npacking_only = true\nmax_offset_steps = 5\ndive_nodes = 7\njoint_acceleration = 2.5\nsample_dt = 0.05\n\n[[kinds]]",
+    );
+    let inst = Instance::parse(&tuned, false, "<tuned>", None).unwrap();
+    let o = PlanOptions::from_instance(&inst);
+    assert!(o.packing_only);
+    assert_eq!((o.astar.max_offset_steps, o.astar.dive_nodes), (5, 7));
+    assert!(!o.astar.trace && !o.astar.profile);
+    assert_eq!((o.trajectory.acceleration, o.trajectory.sample_dt), (2.5, 0.05));
+    // The plan records them, and older plans without them read as the defaults.
+    let json = serde_json::to_value(&o).unwrap();
+    assert_eq!(json["astar"]["max_offset_steps"], 5);
+    assert_eq!(json["trajectory"]["sample_dt"], 0.05);
+    let mut old = json.clone();
+    old.as_object_mut().unwrap().remove("astar");
+    old.as_object_mut().unwrap().remove("trajectory");
+    let back: PlanOptions = serde_json::from_value(old).unwrap();
+    assert_eq!(back.astar, AstarSettings::default());
+    assert_eq!(back.trajectory, TrajectoryOptions::default());
 }
 
 #[test]

@@ -4,7 +4,7 @@
 
 mod common;
 
-use pushpack::control::{Event, Recorder, Stage, Terminator};
+use pushpack::control::{Event, Recorder, Stage, Terminator, PROGRESS_INTERVAL};
 use pushpack::plan::{optimize_with, PlanOptions, Sequencer};
 use pushpack::status::{Limit, Status};
 use pushpack::verify::verify;
@@ -57,6 +57,49 @@ fn a_terminator_that_fires_mid_search_returns_the_best_plan_so_far_marked_cancel
         })
         .collect();
     assert_eq!(finished, [Stage::Placement, Stage::Sequence, Stage::Motion]);
+}
+
+/// The A* search reports from inside: nodes that only grow, a bound that never passes the best
+/// plan, and no more often than the documented interval.
+#[test]
+fn the_sequence_search_reports_its_progress_at_most_every_interval() {
+    let inst = common::load(LONG);
+    let mut o = PlanOptions::from_instance(&inst);
+    o.sequencer = Sequencer::Astar;
+    o.packing_only = true;
+    o.time_limit = 2.0;
+    let mut events = Recorder::default();
+    let start = std::time::Instant::now();
+    let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events);
+    let elapsed = start.elapsed();
+    let progress: Vec<(Stage, u64, Option<f64>, Option<f64>)> = events
+        .0
+        .iter()
+        .filter_map(|e| match e {
+            Event::Progress {
+                stage,
+                nodes,
+                incumbent,
+                bound,
+            } => Some((*stage, *nodes, *incumbent, *bound)),
+            _ => None,
+        })
+        .collect();
+    let seq_s = out.map(|o| o.plan.solver.sequence.time_s);
+    assert!(
+        !progress.is_empty(),
+        "a search of about a second reports (sequence time {seq_s:?} s)"
+    );
+    assert!(progress.len() as f64 <= elapsed.as_secs_f64() / PROGRESS_INTERVAL.as_secs_f64() + 1.0);
+    let mut last_nodes = 0;
+    for (stage, nodes, incumbent, bound) in progress {
+        assert_eq!(stage, Stage::Sequence);
+        assert!(nodes >= last_nodes);
+        last_nodes = nodes;
+        if let (Some(i), Some(b)) = (incumbent, bound) {
+            assert!(b <= i, "bound {b} above the best plan {i}");
+        }
+    }
 }
 
 #[test]

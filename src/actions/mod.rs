@@ -280,67 +280,13 @@ impl<'a> Layout<'a> {
 
     /// Whether `action` can run in the current state; the push-stability margin when it is a push.
     pub fn check(&self, action: &Action) -> Result<Option<f64>, Infeasible> {
-        let inst = self.inst;
-        let floor = inst.container.floor();
         match action {
             Action::Place {
                 object,
                 mode,
                 grasp_axis,
                 ..
-            } => {
-                let i = *object;
-                if self.state[i] != ObjState::Table {
-                    return Err(infeasible(
-                        "precedence",
-                        format!("{} is not on the table", inst.objects[i].id),
-                    ));
-                }
-                if let PlaceMode::Indirect { offset, .. } = mode {
-                    if *offset < inst.gripper.min_offset - EPS {
-                        return Err(infeasible(
-                            "finger_slab",
-                            format!(
-                                "offset {:.4} m is below the minimum {:.4} m",
-                                offset, inst.gripper.min_offset
-                            ),
-                        ));
-                    }
-                }
-                let r = self.release_rect(i, mode);
-                let h = self.placement.targets[i].height;
-                if r.extent(*grasp_axis) + 2.0 * inst.gripper.release_clearance > inst.gripper.max_opening + EPS {
-                    return Err(infeasible(
-                        "gripper_opening",
-                        format!("{} is too wide along the grasp axis", inst.objects[i].id),
-                    ));
-                }
-                if !r.inside(&floor) {
-                    return Err(infeasible(
-                        "wall",
-                        format!("release footprint of {} leaves the floor", inst.objects[i].id),
-                    ));
-                }
-                for j in 0..inst.n() {
-                    if let Some(rj) = self.rect_of(j) {
-                        if rj.overlaps(&r) {
-                            return Err(infeasible(
-                                "overlap",
-                                format!("release of {} overlaps {}", inst.objects[i].id, inst.objects[j].id),
-                            ));
-                        }
-                    }
-                }
-                for slab in self.finger_slabs(&r, h, *grasp_axis) {
-                    if let Some(hit) = self.first_hit(&slab, &[i]) {
-                        return Err(infeasible(
-                            "finger_slab",
-                            format!("finger slab of {} hits {hit}", inst.objects[i].id),
-                        ));
-                    }
-                }
-                Ok(None)
-            }
+            } => self.check_place(*object, mode, *grasp_axis),
             Action::Push {
                 objects,
                 push_dir,
@@ -348,125 +294,206 @@ impl<'a> Layout<'a> {
                 pusher_at,
                 ..
             } => {
-                if objects.is_empty() {
-                    return Err(infeasible("precedence", "push of no objects".into()));
-                }
-                let mut max_off: f64 = 0.0;
-                for (k, &i) in objects.iter().enumerate() {
-                    match self.state[i] {
-                        ObjState::Released {
-                            push_dir: d, offset, ..
-                        } if d == *push_dir => {
-                            max_off = max_off.max(offset);
-                            if k + 1 < objects.len() {
-                                let next = objects[k + 1];
-                                if let ObjState::Released { offset: o2, .. } = self.state[next] {
-                                    if o2 + EPS < offset {
-                                        return Err(infeasible(
-                                            "precedence",
-                                            "line offsets must not decrease toward the back".into(),
-                                        ));
-                                    }
-                                }
-                            }
-                        }
-                        _ => {
-                            return Err(infeasible(
-                                "precedence",
-                                format!("{} is not released for a {:?} push", inst.objects[i].id, push_dir),
-                            ))
-                        }
-                    }
-                }
-                let back = *objects.last().expect("non-empty");
-                if let ObjState::Released { offset, .. } = self.state[back] {
-                    if (offset - max_off).abs() > EPS || (distance - offset).abs() > EPS {
-                        return Err(infeasible(
-                            "precedence",
-                            "push distance must equal the back object's offset".into(),
-                        ));
-                    }
-                }
-                // Targets of consecutive objects must touch along the push axis.
-                let axis = push_dir.axis();
-                for w in objects.windows(2) {
-                    let (a, b) = (self.placement.targets[w[0]].rect, self.placement.targets[w[1]].rect);
-                    if (a.hi(axis) - b.lo(axis)).abs() > EPS || a.overlap_on(&b, axis.other()) <= EPS {
-                        return Err(infeasible(
-                            "precedence",
-                            format!(
-                                "{} and {} do not form a line",
-                                inst.objects[w[0]].id, inst.objects[w[1]].id
-                            ),
-                        ));
-                    }
-                }
-                // Pusher lowering and swept space.
-                let back_rel = self.rect_of(back).expect("released");
-                let lower = self.pusher_slab(&back_rel, *push_dir, *pusher_at, inst.gripper.release_clearance);
-                if let Some(hit) = self.first_hit(&lower, objects) {
+                self.check_line(objects, *push_dir, *distance)?;
+                self.check_push_space(objects, *push_dir, *pusher_at)?;
+                self.check_push_stability(objects, *push_dir, *pusher_at).map(Some)
+            }
+        }
+    }
+
+    /// A place: the object is on the table, and its release fits the gripper, the floor, the
+    /// objects already in the container and the finger slabs.
+    fn check_place(&self, i: usize, mode: &PlaceMode, grasp_axis: Axis2) -> Result<Option<f64>, Infeasible> {
+        let inst = self.inst;
+        let floor = inst.container.floor();
+        if self.state[i] != ObjState::Table {
+            return Err(infeasible(
+                "precedence",
+                format!("{} is not on the table", inst.objects[i].id),
+            ));
+        }
+        if let PlaceMode::Indirect { offset, .. } = mode {
+            if *offset < inst.gripper.min_offset - EPS {
+                return Err(infeasible(
+                    "finger_slab",
+                    format!(
+                        "offset {:.4} m is below the minimum {:.4} m",
+                        offset, inst.gripper.min_offset
+                    ),
+                ));
+            }
+        }
+        let r = self.release_rect(i, mode);
+        let h = self.placement.targets[i].height;
+        if r.extent(grasp_axis) + 2.0 * inst.gripper.release_clearance > inst.gripper.max_opening + EPS {
+            return Err(infeasible(
+                "gripper_opening",
+                format!("{} is too wide along the grasp axis", inst.objects[i].id),
+            ));
+        }
+        if !r.inside(&floor) {
+            return Err(infeasible(
+                "wall",
+                format!("release footprint of {} leaves the floor", inst.objects[i].id),
+            ));
+        }
+        for j in 0..inst.n() {
+            if let Some(rj) = self.rect_of(j) {
+                if rj.overlaps(&r) {
                     return Err(infeasible(
-                        "finger_slab",
-                        format!("pusher behind {} hits {hit}", inst.objects[back].id),
+                        "overlap",
+                        format!("release of {} overlaps {}", inst.objects[i].id, inst.objects[j].id),
                     ));
                 }
-                for &i in objects {
-                    let from = self.rect_of(i).expect("released");
-                    let to = self.placement.targets[i].rect;
-                    let swept = from.union(&to);
-                    if !swept.inside(&floor) {
-                        return Err(infeasible(
-                            "wall",
-                            format!("push sweeps {} outside the floor", inst.objects[i].id),
-                        ));
-                    }
-                    for j in 0..inst.n() {
-                        if objects.contains(&j) {
-                            continue;
-                        }
-                        if let Some(rj) = self.rect_of(j) {
-                            if rj.overlaps(&swept) {
+            }
+        }
+        for slab in self.finger_slabs(&r, h, grasp_axis) {
+            if let Some(hit) = self.first_hit(&slab, &[i]) {
+                return Err(infeasible(
+                    "finger_slab",
+                    format!("finger slab of {} hits {hit}", inst.objects[i].id),
+                ));
+            }
+        }
+        Ok(None)
+    }
+
+    /// A push's objects form a line ready for it: released against `push_dir` with offsets that
+    /// do not decrease toward the back, `distance` the back object's offset, targets touching.
+    fn check_line(&self, objects: &[usize], push_dir: PushDir, distance: f64) -> Result<(), Infeasible> {
+        let inst = self.inst;
+        if objects.is_empty() {
+            return Err(infeasible("precedence", "push of no objects".into()));
+        }
+        let mut max_off: f64 = 0.0;
+        for (k, &i) in objects.iter().enumerate() {
+            match self.state[i] {
+                ObjState::Released {
+                    push_dir: d, offset, ..
+                } if d == push_dir => {
+                    max_off = max_off.max(offset);
+                    if k + 1 < objects.len() {
+                        let next = objects[k + 1];
+                        if let ObjState::Released { offset: o2, .. } = self.state[next] {
+                            if o2 + EPS < offset {
                                 return Err(infeasible(
-                                    "swept_space",
-                                    format!("push of {} sweeps through {}", inst.objects[i].id, inst.objects[j].id),
+                                    "precedence",
+                                    "line offsets must not decrease toward the back".into(),
                                 ));
                             }
                         }
                     }
                 }
-                let back_t = self.placement.targets[back].rect;
-                let end = self.pusher_slab(&back_t, *push_dir, *pusher_at, 0.0);
-                let sweep = Box3 {
-                    min: [lower.min[0].min(end.min[0]), lower.min[1].min(end.min[1]), lower.min[2]],
-                    max: [lower.max[0].max(end.max[0]), lower.max[1].max(end.max[1]), lower.max[2]],
-                };
-                if let Some(hit) = self.first_hit(&sweep, objects) {
+                _ => {
                     return Err(infeasible(
-                        "swept_space",
-                        format!("pusher sweep behind {} hits {hit}", inst.objects[back].id),
-                    ));
+                        "precedence",
+                        format!("{} is not released for a {:?} push", inst.objects[i].id, push_dir),
+                    ))
                 }
-                let verdict = self.push_verdict(objects, *push_dir, *pusher_at);
-                if !verdict.accepted(inst.settings.min_push_margin) {
-                    let detail = match &verdict.travel {
-                        Some(t) if !t.passes => format!(
-                            "{} turns {:.3}° and drifts {:.4} mm while it closes its {:.4} mm gap alone ({:.0} % of the limits)",
-                            inst.objects[back].id,
-                            t.rotation.to_degrees(),
-                            t.drift * 1e3,
-                            t.travel * 1e3,
-                            t.usage * 100.0
-                        ),
-                        _ => format!(
-                            "push margin {:.4} m is below the minimum {:.4} m",
-                            verdict.margin, inst.settings.min_push_margin
-                        ),
-                    };
-                    return Err(infeasible("push_stability", detail));
-                }
-                Ok(Some(verdict.margin))
             }
         }
+        let back = *objects.last().expect("non-empty");
+        if let ObjState::Released { offset, .. } = self.state[back] {
+            if (offset - max_off).abs() > EPS || (distance - offset).abs() > EPS {
+                return Err(infeasible(
+                    "precedence",
+                    "push distance must equal the back object's offset".into(),
+                ));
+            }
+        }
+        // Targets of consecutive objects must touch along the push axis.
+        let axis = push_dir.axis();
+        for w in objects.windows(2) {
+            let (a, b) = (self.placement.targets[w[0]].rect, self.placement.targets[w[1]].rect);
+            if (a.hi(axis) - b.lo(axis)).abs() > EPS || a.overlap_on(&b, axis.other()) <= EPS {
+                return Err(infeasible(
+                    "precedence",
+                    format!(
+                        "{} and {} do not form a line",
+                        inst.objects[w[0]].id, inst.objects[w[1]].id
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The pusher lowers behind the back object without a hit, and neither the objects nor the
+    /// pusher sweep through anything on their way.
+    fn check_push_space(&self, objects: &[usize], push_dir: PushDir, pusher_at: f64) -> Result<(), Infeasible> {
+        let inst = self.inst;
+        let floor = inst.container.floor();
+        let back = *objects.last().expect("non-empty");
+        let back_rel = self.rect_of(back).expect("released");
+        let lower = self.pusher_slab(&back_rel, push_dir, pusher_at, inst.gripper.release_clearance);
+        if let Some(hit) = self.first_hit(&lower, objects) {
+            return Err(infeasible(
+                "finger_slab",
+                format!("pusher behind {} hits {hit}", inst.objects[back].id),
+            ));
+        }
+        for &i in objects {
+            let from = self.rect_of(i).expect("released");
+            let to = self.placement.targets[i].rect;
+            let swept = from.union(&to);
+            if !swept.inside(&floor) {
+                return Err(infeasible(
+                    "wall",
+                    format!("push sweeps {} outside the floor", inst.objects[i].id),
+                ));
+            }
+            for j in 0..inst.n() {
+                if objects.contains(&j) {
+                    continue;
+                }
+                if let Some(rj) = self.rect_of(j) {
+                    if rj.overlaps(&swept) {
+                        return Err(infeasible(
+                            "swept_space",
+                            format!("push of {} sweeps through {}", inst.objects[i].id, inst.objects[j].id),
+                        ));
+                    }
+                }
+            }
+        }
+        let back_t = self.placement.targets[back].rect;
+        let end = self.pusher_slab(&back_t, push_dir, pusher_at, 0.0);
+        let sweep = Box3 {
+            min: [lower.min[0].min(end.min[0]), lower.min[1].min(end.min[1]), lower.min[2]],
+            max: [lower.max[0].max(end.max[0]), lower.max[1].max(end.max[1]), lower.max[2]],
+        };
+        if let Some(hit) = self.first_hit(&sweep, objects) {
+            return Err(infeasible(
+                "swept_space",
+                format!("pusher sweep behind {} hits {hit}", inst.objects[back].id),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The push model accepts the push (docs/push_stability.md); its margin.
+    fn check_push_stability(&self, objects: &[usize], push_dir: PushDir, pusher_at: f64) -> Result<f64, Infeasible> {
+        let inst = self.inst;
+        let back = *objects.last().expect("non-empty");
+        let verdict = self.push_verdict(objects, push_dir, pusher_at);
+        if !verdict.accepted(inst.settings.min_push_margin) {
+            let detail = match &verdict.travel {
+                Some(t) if !t.passes => format!(
+                    "{} turns {:.3}° and drifts {:.4} mm while it closes its {:.4} mm gap alone ({:.0} % of the limits)",
+                    inst.objects[back].id,
+                    t.rotation.to_degrees(),
+                    t.drift * 1e3,
+                    t.travel * 1e3,
+                    t.usage * 100.0
+                ),
+                _ => format!(
+                    "push margin {:.4} m is below the minimum {:.4} m",
+                    verdict.margin, inst.settings.min_push_margin
+                ),
+            };
+            return Err(infeasible("push_stability", detail));
+        }
+        Ok(verdict.margin)
     }
 
     /// For each consecutive pair (front, back) of a line, the gap (m) that separates them now:

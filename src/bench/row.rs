@@ -8,24 +8,13 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// How a run ended: the planner's [`Status`], or one of the ways a run can fail without one
-/// (docs/formats.md, "Benchmark results").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+/// (docs/formats.md, "Benchmark results"). Written as one word, the status's own for
+/// [`RunStatus::Planner`], so that result files keep a single `status` column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RunStatus {
-    /// [`Status::Optimal`].
-    Optimal,
-    /// [`Status::Feasible`].
-    Feasible,
-    /// [`Status::Heuristic`].
-    Heuristic,
-    /// [`Status::TimeLimit`]: the library's time limit stopped a stage before any plan.
-    TimeLimit,
-    /// [`Status::NodeLimit`]: a node or candidate cap stopped a stage before any plan.
-    NodeLimit,
-    /// [`Status::Cancelled`].
-    Cancelled,
-    /// [`Status::Infeasible`]: proven to have no plan. Not a failure.
-    Infeasible,
+    /// The planner ended with this status (`optimal` … `infeasible`; a proven-infeasible run
+    /// is an answer, not a failure).
+    Planner(Status),
     /// The run's process exceeded the hard wall-clock limit and was killed.
     Killed,
     /// The planner panicked, or its process died without a result.
@@ -34,45 +23,38 @@ pub enum RunStatus {
     Error,
     /// Written before format 2 of the rows; read back by [`ResultRow::upgraded`] only.
     #[doc(hidden)]
-    #[serde(rename = "ok")]
     LegacyOk,
     /// Written before format 2 of the rows; read back by [`ResultRow::upgraded`] only.
     #[doc(hidden)]
-    #[serde(rename = "failed")]
     LegacyFailed,
     /// Written before format 2 of the rows; read back by [`ResultRow::upgraded`] only.
     #[doc(hidden)]
-    #[serde(rename = "timeout")]
     LegacyTimeout,
 }
 
 impl From<Status> for RunStatus {
     fn from(s: Status) -> RunStatus {
-        match s {
-            Status::Optimal => RunStatus::Optimal,
-            Status::Feasible => RunStatus::Feasible,
-            Status::Heuristic => RunStatus::Heuristic,
-            Status::TimeLimit => RunStatus::TimeLimit,
-            Status::NodeLimit => RunStatus::NodeLimit,
-            Status::Cancelled => RunStatus::Cancelled,
-            Status::Infeasible => RunStatus::Infeasible,
-        }
+        RunStatus::Planner(s)
     }
 }
 
 impl RunStatus {
+    /// The ways a run ends without a planner status, with their names in result files.
+    const OTHERS: [(RunStatus, &'static str); 6] = [
+        (RunStatus::Killed, "killed"),
+        (RunStatus::Crashed, "crashed"),
+        (RunStatus::Error, "error"),
+        (RunStatus::LegacyOk, "ok"),
+        (RunStatus::LegacyFailed, "failed"),
+        (RunStatus::LegacyTimeout, "timeout"),
+    ];
+
     /// The planner's status, when the run ended with one.
     pub fn status(self) -> Option<Status> {
-        Some(match self {
-            RunStatus::Optimal => Status::Optimal,
-            RunStatus::Feasible => Status::Feasible,
-            RunStatus::Heuristic => Status::Heuristic,
-            RunStatus::TimeLimit => Status::TimeLimit,
-            RunStatus::NodeLimit => Status::NodeLimit,
-            RunStatus::Cancelled => Status::Cancelled,
-            RunStatus::Infeasible => Status::Infeasible,
-            _ => return None,
-        })
+        match self {
+            RunStatus::Planner(s) => Some(s),
+            _ => None,
+        }
     }
 
     /// True for the ways a run fails: killed, crashed, or an error.
@@ -87,29 +69,57 @@ impl RunStatus {
     pub fn is_stopped(self) -> bool {
         matches!(
             self,
-            RunStatus::TimeLimit | RunStatus::NodeLimit | RunStatus::Cancelled | RunStatus::Killed
+            RunStatus::Planner(Status::TimeLimit | Status::NodeLimit | Status::Cancelled) | RunStatus::Killed
         )
     }
 
     /// The name written in result files.
     pub fn as_str(self) -> &'static str {
-        match self.status() {
-            Some(s) => s.as_str(),
-            None => match self {
-                RunStatus::Killed => "killed",
-                RunStatus::Crashed => "crashed",
-                RunStatus::LegacyOk => "ok",
-                RunStatus::LegacyFailed => "failed",
-                RunStatus::LegacyTimeout => "timeout",
-                _ => "error",
-            },
+        match self {
+            RunStatus::Planner(s) => s.as_str(),
+            other => {
+                Self::OTHERS
+                    .iter()
+                    .find(|(r, _)| *r == other)
+                    .expect("every other status is named")
+                    .1
+            }
         }
+    }
+
+    /// The status a result file names `name`.
+    pub fn from_name(name: &str) -> Option<RunStatus> {
+        Status::ALL
+            .iter()
+            .find(|s| s.as_str() == name)
+            .map(|s| RunStatus::Planner(*s))
+            .or_else(|| Self::OTHERS.iter().find(|(_, n)| *n == name).map(|(r, _)| *r))
     }
 }
 
 impl std::fmt::Display for RunStatus {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.as_str())
+    }
+}
+
+impl Serialize for RunStatus {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for RunStatus {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<RunStatus, D::Error> {
+        let name = String::deserialize(d)?;
+        RunStatus::from_name(&name).ok_or_else(|| {
+            let known: Vec<&str> = Status::ALL
+                .iter()
+                .map(|s| s.as_str())
+                .chain(Self::OTHERS.iter().map(|(_, n)| *n))
+                .collect();
+            serde::de::Error::custom(format!("unknown run status {name:?}, expected one of {known:?}"))
+        })
     }
 }
 
@@ -349,15 +359,17 @@ impl ResultRow {
         self.status = match self.status {
             RunStatus::LegacyOk => match (placement, sequence) {
                 (Some(p), Some(q)) => Status::combine(&[p, q]).into(),
-                _ => RunStatus::Feasible,
+                _ => RunStatus::Planner(Status::Feasible),
             },
             RunStatus::LegacyFailed if error.starts_with("panic") || error.starts_with("run process") => {
                 RunStatus::Crashed
             }
             RunStatus::LegacyFailed => RunStatus::Error,
             RunStatus::LegacyTimeout if error.starts_with("killed after") => RunStatus::Killed,
-            RunStatus::LegacyTimeout if error.contains("stopped by its node limit") => RunStatus::NodeLimit,
-            RunStatus::LegacyTimeout => RunStatus::TimeLimit,
+            RunStatus::LegacyTimeout if error.contains("stopped by its node limit") => {
+                RunStatus::Planner(Status::NodeLimit)
+            }
+            RunStatus::LegacyTimeout => RunStatus::Planner(Status::TimeLimit),
             s => s,
         };
         self
@@ -377,7 +389,7 @@ impl ResultRow {
     /// and the sequence proven optimal for it ([`Status::combine`]). Heuristic stages (the
     /// paper's sequencer, Bottom-Left) never are.
     pub fn proven(&self) -> bool {
-        self.solved() && self.status == RunStatus::Optimal
+        self.solved() && self.status == RunStatus::Planner(Status::Optimal)
     }
 
     /// The row as JSON with the timing fields removed (for comparing runs).
@@ -540,6 +552,41 @@ impl RowWriter {
 mod tests {
     use super::*;
 
+    /// The words result files have always used, in JSON and CSV alike: changing one would
+    /// orphan every result file written before.
+    #[test]
+    fn run_status_names_are_the_files_words() {
+        let every = [
+            (RunStatus::Planner(Status::Optimal), "optimal"),
+            (RunStatus::Planner(Status::Feasible), "feasible"),
+            (RunStatus::Planner(Status::Heuristic), "heuristic"),
+            (RunStatus::Planner(Status::TimeLimit), "time_limit"),
+            (RunStatus::Planner(Status::NodeLimit), "node_limit"),
+            (RunStatus::Planner(Status::Cancelled), "cancelled"),
+            (RunStatus::Planner(Status::Infeasible), "infeasible"),
+            (RunStatus::Killed, "killed"),
+            (RunStatus::Crashed, "crashed"),
+            (RunStatus::Error, "error"),
+            (RunStatus::LegacyOk, "ok"),
+            (RunStatus::LegacyFailed, "failed"),
+            (RunStatus::LegacyTimeout, "timeout"),
+        ];
+        for (status, word) in every {
+            assert_eq!(serde_json::to_value(status).unwrap(), serde_json::json!(word));
+            assert_eq!(
+                serde_json::from_value::<RunStatus>(serde_json::json!(word)).unwrap(),
+                status
+            );
+            assert_eq!(status.to_string(), word);
+            let mut row = sample("x.toml", "bl+paper");
+            row.status = status;
+            let csv = row.to_csv_record();
+            let column = COLUMNS.iter().position(|c| *c == "status").unwrap();
+            assert_eq!(csv.split(',').nth(column), Some(word), "{csv}");
+        }
+        assert!(serde_json::from_value::<RunStatus>(serde_json::json!("complete")).is_err());
+    }
+
     fn sample(instance: &str, planner: &str) -> ResultRow {
         let inst = crate::instance::Instance::load(concat!(
             env!("CARGO_MANIFEST_DIR"),
@@ -570,14 +617,17 @@ mod tests {
         // The paper's sequencer searched its whole candidate space: still a heuristic.
         assert!(!solved_and_complete("milp+paper").proven());
         assert!(!solved_and_complete("bl+paper").proven());
-        assert_eq!(solved_and_complete("milp+paper").status, RunStatus::Heuristic);
+        assert_eq!(
+            solved_and_complete("milp+paper").status,
+            RunStatus::Planner(Status::Heuristic)
+        );
         let mut r = sample("a", "milp+astar");
         r.status = RunStatus::LegacyOk;
         r.verify = Some("valid".into());
         r.placement_status = Some("feasible".into());
         r.sequence_status = Some("complete".into());
         let r = r.upgraded();
-        assert_eq!(r.status, RunStatus::Feasible);
+        assert_eq!(r.status, RunStatus::Planner(Status::Feasible));
         assert!(r.solved() && !r.proven());
         let mut k = sample("a", "milp+astar");
         k.status = RunStatus::LegacyTimeout;

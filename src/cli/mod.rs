@@ -3,7 +3,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use pushpack::error::Error;
-use pushpack::instance::{Instance, MAX_TIME_LIMIT};
+use pushpack::instance::{Instance, MAX_OFFSET_STEPS, MAX_TIME_LIMIT};
 use pushpack::plan::{optimize, optimize_stages, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer};
 use pushpack::render::{render, render_placement};
 use pushpack::simulate::SimOptions;
@@ -268,6 +268,17 @@ struct PlanArgs {
     /// placements, best first (default 0: keep the placement).
     #[arg(long, value_name = "N", default_value_t = 0)]
     placement_alternatives: usize,
+    /// A* only: largest indirect offset in multiples of the minimum offset (default: the
+    /// instance's planner.max_offset_steps, else 3).
+    #[arg(long, value_name = "M")]
+    max_offset_steps: Option<usize>,
+    /// A* only, developer diagnostics: print the search's phases and bounds to stderr.
+    #[arg(long)]
+    astar_trace: bool,
+    /// A* only, developer diagnostics: time the bound computations and print a profile to
+    /// stderr at the end.
+    #[arg(long)]
+    astar_profile: bool,
 }
 
 impl PlanArgs {
@@ -299,6 +310,18 @@ impl PlanArgs {
         }
         o.placement_alternatives = self.placement_alternatives;
         o.packing_only |= self.packing_only;
+        if let Some(m) = self.max_offset_steps {
+            if m == 0 || m > MAX_OFFSET_STEPS {
+                return Err(Error::input(
+                    "<command line>",
+                    "--max-offset-steps",
+                    format!("must be 1..={MAX_OFFSET_STEPS}, got {m}"),
+                ));
+            }
+            o.astar.max_offset_steps = m;
+        }
+        o.astar.trace |= self.astar_trace;
+        o.astar.profile |= self.astar_profile;
         Ok(o)
     }
 }
@@ -344,6 +367,7 @@ pub fn main() -> i32 {
     }
 }
 
+/// One arm per subcommand; the longer ones are `cmd_*` functions of their own.
 fn run(cmd: Cmd) -> Result<i32, Error> {
     match cmd {
         Cmd::Validate { instance } => {
@@ -386,95 +410,8 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             no_render,
             compare_ablations,
         } => cmd_plan(instance, out, opts, no_render, compare_ablations),
-        Cmd::Verify {
-            instance,
-            plan,
-            json,
-            packing_only,
-            simulate,
-        } => {
-            let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
-            let mut report = verify(&inst, &p);
-            report.packing_only |= packing_only;
-            let sim = if simulate {
-                Some(pushpack::simulate::simulate(
-                    &inst,
-                    &p,
-                    &SimOptions::from_instance(&inst),
-                )?)
-            } else {
-                None
-            };
-            if json {
-                let v = match &sim {
-                    None => serde_json::to_value(&report),
-                    Some(s) => serde_json::to_value(serde_json::json!({ "verify": &report, "simulation": s })),
-                };
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&v.expect("serialisable")).expect("serialisable")
-                );
-            } else {
-                println!("{report}");
-                if let Some(s) = &sim {
-                    print!("{s}");
-                }
-            }
-            let sim_ok = sim.as_ref().is_none_or(|s| s.ok);
-            Ok(if report.is_valid() && sim_ok {
-                EXIT_OK
-            } else {
-                EXIT_FAIL
-            })
-        }
-        Cmd::Simulate {
-            plan,
-            instance,
-            json,
-            dt,
-            push_speed,
-            contact_hz,
-            sweep,
-        } => {
-            let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
-            for (flag, v) in flags {
-                if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
-                    return Err(Error::input(
-                        "<command line>",
-                        flag,
-                        format!("must be a finite number > 0, got {v}"),
-                    ));
-                }
-            }
-            let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
-            let d = SimOptions::from_instance(&inst);
-            let opts = SimOptions {
-                dt: dt.unwrap_or(d.dt),
-                push_speed: push_speed.unwrap_or(d.push_speed),
-                contact_hz: contact_hz.unwrap_or(d.contact_hz),
-                ..d
-            };
-            if sweep {
-                let runs = pushpack::simulate::sweep::sweep(&inst, &p, &opts)?;
-                if json {
-                    println!("{}", serde_json::to_string_pretty(&runs).expect("serialisable"));
-                } else {
-                    print!("{}", pushpack::simulate::sweep::sweep_table(&runs));
-                }
-                return Ok(if runs.iter().all(|r| r.report.ok) {
-                    EXIT_OK
-                } else {
-                    EXIT_FAIL
-                });
-            }
-            let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
-            if json {
-                println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
-            } else {
-                print!("{report}");
-            }
-            Ok(if report.ok { EXIT_OK } else { EXIT_FAIL })
-        }
+        cmd @ Cmd::Verify { .. } => cmd_verify(cmd),
+        cmd @ Cmd::Simulate { .. } => cmd_simulate(cmd),
         Cmd::Export { plan, format, out } => {
             let p = Plan::load(&plan)?;
             let fmt: pushpack::plan::export::ExportFormat = format
@@ -561,6 +498,108 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             Ok(EXIT_OK)
         }
     }
+}
+
+/// `pushpack verify`: the verifier's report (and the physics replay's with `--simulate`).
+fn cmd_verify(cmd: Cmd) -> Result<i32, Error> {
+    let Cmd::Verify {
+        instance,
+        plan,
+        json,
+        packing_only,
+        simulate,
+    } = cmd
+    else {
+        unreachable!("run dispatches only Cmd::Verify here")
+    };
+    let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
+    let mut report = verify(&inst, &p);
+    report.packing_only |= packing_only;
+    let sim = if simulate {
+        Some(pushpack::simulate::simulate(
+            &inst,
+            &p,
+            &SimOptions::from_instance(&inst),
+        )?)
+    } else {
+        None
+    };
+    if json {
+        let v = match &sim {
+            None => serde_json::to_value(&report),
+            Some(s) => serde_json::to_value(serde_json::json!({ "verify": &report, "simulation": s })),
+        };
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v.expect("serialisable")).expect("serialisable")
+        );
+    } else {
+        println!("{report}");
+        if let Some(s) = &sim {
+            print!("{s}");
+        }
+    }
+    let sim_ok = sim.as_ref().is_none_or(|s| s.ok);
+    Ok(if report.is_valid() && sim_ok {
+        EXIT_OK
+    } else {
+        EXIT_FAIL
+    })
+}
+
+/// `pushpack simulate`: one physics replay, or `--sweep` over the settings a push must not
+/// depend on.
+fn cmd_simulate(cmd: Cmd) -> Result<i32, Error> {
+    let Cmd::Simulate {
+        plan,
+        instance,
+        json,
+        dt,
+        push_speed,
+        contact_hz,
+        sweep,
+    } = cmd
+    else {
+        unreachable!("run dispatches only Cmd::Simulate here")
+    };
+    let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
+    for (flag, v) in flags {
+        if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
+            return Err(Error::input(
+                "<command line>",
+                flag,
+                format!("must be a finite number > 0, got {v}"),
+            ));
+        }
+    }
+    let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
+    let d = SimOptions::from_instance(&inst);
+    let opts = SimOptions {
+        dt: dt.unwrap_or(d.dt),
+        push_speed: push_speed.unwrap_or(d.push_speed),
+        contact_hz: contact_hz.unwrap_or(d.contact_hz),
+        ..d
+    };
+    if sweep {
+        let runs = pushpack::simulate::sweep::sweep(&inst, &p, &opts)?;
+        if json {
+            println!("{}", serde_json::to_string_pretty(&runs).expect("serialisable"));
+        } else {
+            print!("{}", pushpack::simulate::sweep::sweep_table(&runs));
+        }
+        return Ok(if runs.iter().all(|r| r.report.ok) {
+            EXIT_OK
+        } else {
+            EXIT_FAIL
+        });
+    }
+    let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
+    } else {
+        print!("{report}");
+    }
+    Ok(if report.ok { EXIT_OK } else { EXIT_FAIL })
 }
 
 /// `pushpack bench`.
@@ -862,6 +901,29 @@ fn print_ablations(inst: &Instance, base: &PlanOptions) -> Result<(), Error> {
     Ok(())
 }
 
+/// One line per push whose back object first closes a gap alone (`travel_phase` in plan.json):
+/// how far it moves, how much it turns and drifts meanwhile, and the share of the instance's
+/// tolerances that uses (docs/push_stability.md §5.4). A share near 100 % is the push to watch
+/// when the plan is run.
+fn print_travel_phases(plan: &Plan) {
+    for a in &plan.actions {
+        if let Some(t) = &a.travel_phase {
+            println!("{}", travel_line(a.step, t));
+        }
+    }
+}
+
+fn travel_line(step: usize, t: &pushpack::plan::TravelPhase) -> String {
+    format!(
+        "travel     push {step}: {} closes {:.1} mm alone, turning {:.2}° and drifting {:.2} mm ({:.0} % of the tolerances)",
+        t.object,
+        t.gap * 1e3,
+        t.rotation.to_degrees(),
+        t.drift * 1e3,
+        t.usage * 100.0
+    )
+}
+
 fn print_summary(inst: &Instance, o: &PlanOutcome) {
     let m = &o.plan.metrics;
     let ps = &o.plan.placement;
@@ -893,6 +955,7 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
         m.seq_len, m.n_place_direct, m.n_place_indirect, m.n_push, m.n_multi_push
     );
     println!("swept area {:.1} cm²   travel {:.3} m", m.swept_area * 1e4, m.travel);
+    print_travel_phases(&o.plan);
     let ss = &o.plan.solver.sequence;
     if let Some(b) = ss.cost_bound.filter(|_| ss.status != pushpack::status::Status::Optimal) {
         // Stopped early: the per-component bounds the plan is measured against.
@@ -922,4 +985,24 @@ fn print_summary(inst: &Instance, o: &PlanOutcome) {
             None => String::new(),
         }
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_travel_phase_is_printed_in_millimetres_degrees_and_per_cent() {
+        let t = pushpack::plan::TravelPhase {
+            object: "b".into(),
+            gap: 0.015,
+            rotation: 0.6f64.to_radians(),
+            drift: 0.0002,
+            usage: 0.6,
+        };
+        assert_eq!(
+            travel_line(3, &t),
+            "travel     push 3: b closes 15.0 mm alone, turning 0.60° and drifting 0.20 mm (60 % of the tolerances)"
+        );
+    }
 }

@@ -4,10 +4,13 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pushpack::control::{CancelFlag, Event, Listener};
 use std::time::Duration;
 
-/// A spinner naming the running stage and its budget; a line per finished stage. Draws only
-/// when stderr is a terminal, so pipes and logs stay clean.
+/// A spinner naming the running stage and its budget, with the search's nodes, best plan and
+/// bound while it runs; a line per finished stage. Draws only when stderr is a terminal, so
+/// pipes and logs stay clean.
 pub struct Progress {
     bar: ProgressBar,
+    /// The running stage's own words, kept so that search figures are added to them.
+    stage: String,
 }
 
 impl Progress {
@@ -17,7 +20,10 @@ impl Progress {
             ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}").expect("a valid progress template"),
         );
         bar.enable_steady_tick(Duration::from_millis(120));
-        Progress { bar }
+        Progress {
+            bar,
+            stage: String::new(),
+        }
     }
 
     pub fn finish(&self) {
@@ -28,11 +34,28 @@ impl Progress {
 impl Listener for Progress {
     fn event(&mut self, event: &Event) {
         match event {
-            Event::StageStarted { stage, budget_s } if *budget_s > 0.0 => self.bar.set_message(format!(
-                "{} (up to {budget_s:.1} s; Ctrl+C stops with the best plan so far)",
-                stage.name()
-            )),
-            Event::StageStarted { stage, .. } => self.bar.set_message(stage.name().to_string()),
+            Event::StageStarted { stage, budget_s } => {
+                self.stage = if *budget_s > 0.0 {
+                    format!(
+                        "{} (up to {budget_s:.1} s; Ctrl+C stops with the best plan so far)",
+                        stage.name()
+                    )
+                } else {
+                    stage.name().to_string()
+                };
+                self.bar.set_message(self.stage.clone());
+            }
+            Event::Progress {
+                nodes,
+                incumbent,
+                bound,
+                ..
+            } => {
+                let plan = incumbent.map_or("no plan yet".to_string(), |o| format!("best {o}"));
+                let bound = bound.map_or(String::new(), |b| format!(", bound {b}"));
+                self.bar
+                    .set_message(format!("{}: {nodes} nodes, {plan}{bound}", self.stage));
+            }
             Event::StageFinished {
                 stage,
                 status,

@@ -155,7 +155,7 @@ pub struct PlannerFile {
     /// Number of random orders tried by Bottom-Left; default 256.
     #[serde(default)]
     pub bl_orders: Option<usize>,
-    /// Wall-clock limit per stage in seconds; default 60.
+    /// Wall-clock limit of the whole run in seconds; default 60.
     #[serde(default)]
     pub time_limit: Option<f64>,
     /// Node limit of the sequence search; default 2,000,000.
@@ -177,6 +177,21 @@ pub struct PlannerFile {
     /// Forbid multi-object pushes (ablation).
     #[serde(default)]
     pub no_multi_push: Option<bool>,
+    /// A packing-only study: robot issues do not make the plan invalid; default false.
+    #[serde(default)]
+    pub packing_only: Option<bool>,
+    /// A* sequencer: largest indirect offset in multiples of the minimum offset; default 3.
+    #[serde(default)]
+    pub max_offset_steps: Option<usize>,
+    /// A* sequencer: node budget of the greedy dive for a first plan; default 20,000.
+    #[serde(default)]
+    pub dive_nodes: Option<u64>,
+    /// Joint acceleration limit of the trajectories at full speed (rad/s²); default 1.
+    #[serde(default)]
+    pub joint_acceleration: Option<f64>,
+    /// Largest time between two trajectory points (s); default 0.1.
+    #[serde(default)]
+    pub sample_dt: Option<f64>,
 }
 
 /// One object kind.

@@ -264,7 +264,7 @@ pub struct Settings {
     pub seed: u64,
     /// Random orders tried by Bottom-Left (default 256).
     pub bl_orders: usize,
-    /// Time limit per stage in seconds (default 60).
+    /// Time limit of the whole run in seconds (default 60).
     pub time_limit: f64,
     /// Node limit of a sequence search (default 2,000,000).
     pub max_nodes: u64,
@@ -280,6 +280,17 @@ pub struct Settings {
     pub no_direct: bool,
     /// Forbid multi-object pushes.
     pub no_multi_push: bool,
+    /// A packing-only study (default false; `PlanOptions::packing_only`).
+    pub packing_only: bool,
+    /// The A* sequencer's largest indirect offset in multiples of the minimum offset (`None`:
+    /// the sequencer's default, `AstarSettings::max_offset_steps`).
+    pub max_offset_steps: Option<usize>,
+    /// Node budget of the A* sequencer's first dive (`None`: `AstarSettings::dive_nodes`).
+    pub dive_nodes: Option<u64>,
+    /// Joint acceleration limit at full speed, rad/s² (`None`: `TrajectoryOptions::acceleration`).
+    pub joint_acceleration: Option<f64>,
+    /// Largest time between two trajectory points, s (`None`: `TrajectoryOptions::sample_dt`).
+    pub sample_dt: Option<f64>,
 }
 
 impl Default for Settings {
@@ -294,6 +305,11 @@ impl Default for Settings {
             max_push_drift: DEFAULT_MAX_PUSH_DRIFT,
             no_direct: false,
             no_multi_push: false,
+            packing_only: false,
+            max_offset_steps: None,
+            dive_nodes: None,
+            joint_acceleration: None,
+            sample_dt: None,
         }
     }
 }
@@ -316,6 +332,16 @@ pub const MAX_PUSH_ROTATION_DEG: f64 = 5.0;
 /// would press that far into a touching neighbour's target in a dense packing; a larger
 /// tolerance would only hide a misplacement.
 pub const MAX_PUSH_DRIFT: f64 = 0.005;
+
+/// Largest accepted `planner.max_offset_steps`: the A* sequencer's compact state key stores an
+/// offset step in a byte beside the push direction (`sequence::astar`).
+pub const MAX_OFFSET_STEPS: usize = 100;
+
+/// Largest accepted `planner.sample_dt` (s): a controller interpolates joint values linearly
+/// between trajectory points, and the further apart they are, the further that line leaves the
+/// planned path (a push leaves its straight line; the verifier checks collisions only at the
+/// points and half-way between them).
+pub const MAX_SAMPLE_DT: f64 = 1.0;
 
 /// Largest accepted `planner.time_limit` in seconds (larger values cannot be represented as a
 /// `std::time::Duration` deadline in every solver).

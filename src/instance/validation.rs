@@ -493,6 +493,34 @@ fn planner_settings(c: &Check, p: &super::file::PlannerFile, scale: f64) -> Resu
         },
         no_direct: p.no_direct.unwrap_or(false),
         no_multi_push: p.no_multi_push.unwrap_or(false),
+        packing_only: p.packing_only.unwrap_or(false),
+        max_offset_steps: match p.max_offset_steps {
+            Some(v) if v == 0 || v > MAX_OFFSET_STEPS => {
+                return Err(c.err(
+                    "planner.max_offset_steps",
+                    format!("must be 1..={MAX_OFFSET_STEPS}, got {v}"),
+                ))
+            }
+            v => v,
+        },
+        dive_nodes: p.dive_nodes,
+        joint_acceleration: match p.joint_acceleration {
+            Some(v) => Some(c.positive("planner.joint_acceleration", v)?),
+            None => None,
+        },
+        sample_dt: match p.sample_dt {
+            Some(v) => {
+                let v = c.positive("planner.sample_dt", v)?;
+                if v > MAX_SAMPLE_DT {
+                    return Err(c.err(
+                        "planner.sample_dt",
+                        format!("must be at most {MAX_SAMPLE_DT} s, got {v} s"),
+                    ));
+                }
+                Some(v)
+            }
+            None => None,
+        },
     })
 }
 

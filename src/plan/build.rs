@@ -7,15 +7,82 @@ use crate::actions::{Action, PlaceMode};
 use crate::geometry::Arm;
 use crate::instance::Instance;
 use crate::motion::keypoints::{action_keypoints, path_length};
-use crate::placement::PlacementResult;
+use crate::placement::{Placement, PlacementResult};
 use crate::sequence::SequenceResult;
 use crate::status::Status;
 
 /// Assemble the plan file from stage results.
 pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr: &SequenceResult) -> Plan {
     let p = &pr.placement;
-    let placements = p
-        .targets
+    let placements = placement_entries(inst, p);
+    let actions = action_entries(inst, p, sr);
+    let (robot, trajectories) = crate::motion::plan_trajectories(inst, p, &sr.actions, &opts.trajectory);
+    let placement_status = placement_status(pr);
+    let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
+    Plan {
+        format_version: FORMAT_VERSION,
+        tool: ToolInfo {
+            name: "pushpack".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+        },
+        instance: InstanceRef {
+            name: inst.name.clone(),
+            source: inst.source.clone(),
+            digest: inst.digest.clone(),
+        },
+        status: Status::combine(&[placement_status, sequence_status]),
+        options: opts.clone(),
+        placement: PlacementSummary {
+            status: placement_status,
+            occupied_area: p.occupied_area(),
+            lower_bound: pr.lower_bound,
+            gap: pr.gap(),
+            contact_length: p.contact_length(inst),
+            solver: pr.solver.clone(),
+            alternative: 0,
+        },
+        placements,
+        actions,
+        metrics: sr.metrics,
+        solver: SolverStats {
+            placement: StageStats {
+                status: placement_status,
+                stopped_by: None,
+                time_s: pr.time_s,
+                nodes: pr.nodes,
+                bound: Some(pr.lower_bound),
+                gap: Some(pr.gap()),
+                assignments: None,
+                cost_bound: None,
+            },
+            sequence: StageStats {
+                status: sequence_status,
+                stopped_by: sequence_stop,
+                time_s: sr.time_s,
+                nodes: sr.nodes,
+                bound: sr.bound.map(|b| b.travel),
+                gap: sr.bound.map(|b| {
+                    if b.len == sr.metrics.seq_len
+                        && (b.area - sr.metrics.swept_area).abs() <= 1e-12
+                        && sr.metrics.travel > 0.0
+                    {
+                        ((sr.metrics.travel - b.travel) / sr.metrics.travel).max(0.0)
+                    } else {
+                        1.0
+                    }
+                }),
+                assignments: Some(sr.assignments),
+                cost_bound: sr.bound,
+            },
+        },
+        robot: Some(robot),
+        trajectories,
+    }
+}
+
+/// One target per object, in instance order, named by id and kind.
+fn placement_entries(inst: &Instance, p: &Placement) -> Vec<PlacementEntry> {
+    p.targets
         .iter()
         .enumerate()
         .map(|(i, t)| PlacementEntry {
@@ -28,12 +95,16 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             size_y: t.rect.depth(),
             height: t.height,
         })
-        .collect();
+        .collect()
+}
+
+/// The actions in order with their key poses and costs; each push with its margin and, replayed
+/// along the actions, its travel phase (which depends on where its objects were released).
+fn action_entries(inst: &Instance, p: &Placement, sr: &SequenceResult) -> Vec<ActionEntry> {
     let mut pos = [inst.robot.home_tcp(Arm::Left), inst.robot.home_tcp(Arm::Right)];
     // Replayed along the actions: a push's travel phase depends on where its objects were released.
     let mut layout = crate::actions::Layout::new(inst, p);
-    let actions = sr
-        .actions
+    sr.actions
         .iter()
         .zip(&sr.margins)
         .enumerate()
@@ -109,75 +180,5 @@ pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr:
             layout.apply(a);
             entry
         })
-        .collect();
-    let (robot, trajectories) = crate::motion::plan_trajectories(
-        inst,
-        p,
-        &sr.actions,
-        &crate::motion::TrajectoryOptions {
-            velocity_scale: inst.robot.speed_scale,
-            ..Default::default()
-        },
-    );
-    let placement_status = placement_status(pr);
-    let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
-    Plan {
-        format_version: FORMAT_VERSION,
-        tool: ToolInfo {
-            name: "pushpack".into(),
-            version: env!("CARGO_PKG_VERSION").into(),
-        },
-        instance: InstanceRef {
-            name: inst.name.clone(),
-            source: inst.source.clone(),
-            digest: inst.digest.clone(),
-        },
-        status: Status::combine(&[placement_status, sequence_status]),
-        options: opts.clone(),
-        placement: PlacementSummary {
-            status: placement_status,
-            occupied_area: p.occupied_area(),
-            lower_bound: pr.lower_bound,
-            gap: pr.gap(),
-            contact_length: p.contact_length(inst),
-            solver: pr.solver.clone(),
-            alternative: 0,
-        },
-        placements,
-        actions,
-        metrics: sr.metrics,
-        solver: SolverStats {
-            placement: StageStats {
-                status: placement_status,
-                stopped_by: None,
-                time_s: pr.time_s,
-                nodes: pr.nodes,
-                bound: Some(pr.lower_bound),
-                gap: Some(pr.gap()),
-                assignments: None,
-                cost_bound: None,
-            },
-            sequence: StageStats {
-                status: sequence_status,
-                stopped_by: sequence_stop,
-                time_s: sr.time_s,
-                nodes: sr.nodes,
-                bound: sr.bound.map(|b| b.travel),
-                gap: sr.bound.map(|b| {
-                    if b.len == sr.metrics.seq_len
-                        && (b.area - sr.metrics.swept_area).abs() <= 1e-12
-                        && sr.metrics.travel > 0.0
-                    {
-                        ((sr.metrics.travel - b.travel) / sr.metrics.travel).max(0.0)
-                    } else {
-                        1.0
-                    }
-                }),
-                assignments: Some(sr.assignments),
-                cost_bound: sr.bound,
-            },
-        },
-        robot: Some(robot),
-        trajectories,
-    }
+        .collect()
 }

@@ -7,6 +7,7 @@
 use crate::control::{Either, Event, Listener, Never, Silent, Stage, Terminator, TimeLimit};
 use crate::error::{Error, Result};
 use crate::instance::Instance;
+use crate::motion::TrajectoryOptions;
 use crate::placement::{self, Placement, PlacementResult, PlacementStatus};
 use crate::sequence::{self, SearchStatus, SequenceOptions, SequenceResult};
 use crate::status::{Limit, Status};
@@ -113,7 +114,9 @@ pub enum Sequencer {
     Astar,
 }
 
-/// Options of one planning run (defaults from the instance's `[planner]` table).
+/// Every setting of one planning run: [`PlanOptions::from_instance`] fills it from the
+/// instance's `[planner]` and `[robot]` tables and their documented defaults (docs/formats.md),
+/// and the CLI's flags override it. `plan.json` records it as `options`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlanOptions {
     /// Seed of every random choice.
@@ -144,6 +147,13 @@ pub struct PlanOptions {
     /// (default false: plans are meant to be executable).
     #[serde(default)]
     pub packing_only: bool,
+    /// Settings of the A* sequencer (absent in older plan files: the defaults).
+    #[serde(default)]
+    pub astar: sequence::astar::AstarSettings,
+    /// Timing of the joint trajectories (absent in older plan files: the defaults).
+    /// `velocity_scale` comes from the instance's `robot.speed_scale`.
+    #[serde(default)]
+    pub trajectory: TrajectoryOptions,
 }
 
 impl PlanOptions {
@@ -164,7 +174,23 @@ impl PlanOptions {
             max_nodes: s.max_nodes,
             bl_orders: s.bl_orders,
             placement_alternatives: 0,
-            packing_only: false,
+            packing_only: s.packing_only,
+            astar: {
+                let d = sequence::astar::AstarSettings::default();
+                sequence::astar::AstarSettings {
+                    max_offset_steps: s.max_offset_steps.unwrap_or(d.max_offset_steps),
+                    dive_nodes: s.dive_nodes.unwrap_or(d.dive_nodes),
+                    ..d
+                }
+            },
+            trajectory: {
+                let d = TrajectoryOptions::default();
+                TrajectoryOptions {
+                    velocity_scale: inst.robot.speed_scale,
+                    acceleration: s.joint_acceleration.unwrap_or(d.acceleration),
+                    sample_dt: s.sample_dt.unwrap_or(d.sample_dt),
+                }
+            },
         }
     }
 }
@@ -300,7 +326,7 @@ pub fn sequence_placement_with(
     });
     let clock = TimeLimit::new(time_limit);
     let limit = Either(&clock, stop);
-    let first = sequence_one(inst, opts, &placement.placement, &limit);
+    let first = sequence_one(inst, opts, &placement.placement, &limit, listener);
     let reason = match first {
         Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0, stop, listener)),
         Err(Error::Infeasible { reason }) if opts.placement_alternatives > 0 => reason,
@@ -320,7 +346,7 @@ pub fn sequence_placement_with(
             break;
         }
         tried += 1;
-        match sequence_one(inst, opts, &alt, &limit) {
+        match sequence_one(inst, opts, &alt, &limit, listener) {
             Ok(sequence) => {
                 let pr = PlacementResult {
                     placement: alt,
@@ -355,6 +381,7 @@ fn sequence_one(
     opts: &PlanOptions,
     placement: &Placement,
     limit: &dyn Terminator,
+    listener: &mut dyn Listener,
 ) -> Result<SequenceResult> {
     let seq_opts = SequenceOptions {
         no_direct: opts.no_direct,
@@ -363,13 +390,7 @@ fn sequence_one(
     };
     match opts.sequencer {
         Sequencer::Paper => sequence::paper::solve(inst, placement, &seq_opts, limit),
-        Sequencer::Astar => sequence::astar::solve(
-            inst,
-            placement,
-            &seq_opts,
-            &sequence::astar::AstarSettings::default(),
-            limit,
-        ),
+        Sequencer::Astar => sequence::astar::solve_with(inst, placement, &seq_opts, &opts.astar, limit, listener),
     }
 }
 

@@ -78,8 +78,15 @@ pub(super) fn placement_svg(inst: &Instance, solver: &str, status: crate::status
     );
     // Origin marker.
     svg.circle(v.x(0.0), v.y(0.0), 3.5, Paint::fill(ACT_STROKE, "none", 0.0));
+    axes(&mut svg, inst, &v);
+    legend(&mut svg, inst, legend_x, top, (mx, my));
+    svg.finish()
+}
 
-    // Axes (cm), outside the walls.
+/// Centimetre scales along x below the front wall and along y left of the left wall.
+fn axes(svg: &mut Svg, inst: &Instance, v: &View) {
+    let c = &inst.container;
+    let t = c.wall_thickness;
     let step = nice_step(c.width.max(c.depth), 8.0);
     let ax_y = v.y(-t) + 14.0;
     svg.line(v.x(0.0), ax_y, v.x(c.width), ax_y, Paint::line(TEXT, 1.0));
@@ -131,8 +138,13 @@ pub(super) fn placement_svg(inst: &Instance, solver: &str, status: crate::status
         TEXT,
         "y (cm)",
     );
+}
 
-    // Legend.
+/// The kinds with their sizes and counts, the occupied area `mx × my` and the walls, from
+/// `(legend_x, top)` down.
+fn legend(svg: &mut Svg, inst: &Instance, legend_x: f64, top: f64, (mx, my): (f64, f64)) {
+    let c = &inst.container;
+    let t = c.wall_thickness;
     let mut ly = top + 6.0;
     svg.text(legend_x, ly, 14.0, Anchor::Start, true, TEXT, "Kinds");
     ly += 12.0;
@@ -186,7 +198,6 @@ pub(super) fn placement_svg(inst: &Instance, solver: &str, status: crate::status
         TEXT,
         &format!("walls {} cm thick, {} cm high", cm(t), cm(c.wall_height)),
     );
-    svg.finish()
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -106,7 +106,6 @@ pub(super) fn caption(inst: &Instance, plan: &Plan, k: usize, a: &Action) -> (St
 
 pub(super) fn storyboard_svg(inst: &Instance, plan: &Plan, p: &Placement, actions: &[Action], story: &Story) -> String {
     let c = &inst.container;
-    let g = &inst.gripper;
     let t = c.wall_thickness;
     let n = actions.len();
     let cols = match n {
@@ -155,26 +154,7 @@ pub(super) fn storyboard_svg(inst: &Instance, plan: &Plan, p: &Placement, action
             m.travel
         ),
     );
-    // Legend line.
-    let mut lx = left;
-    let ly = 66.0;
-    let acting_fill = tint("#f28e2b", 0.25);
-    let released_fill = tint("#f28e2b", 0.8);
-    let items: [(Paint, &str); 5] = [
-        (Paint::fill(DONE_FILL, "#777777", 1.0), "at target"),
-        (
-            Paint::fill(&released_fill, "#f28e2b", 1.5).dashed("4,3"),
-            "released, waiting for its push",
-        ),
-        (Paint::fill(&acting_fill, ACT_STROKE, 2.5), "acting object"),
-        (Paint::fill(FINGER_FILL, "none", 0.0), "fingers / pusher"),
-        (Paint::line("#aaaaaa", 1.0).dashed("2,2"), "targets"),
-    ];
-    for (paint, label) in items {
-        svg.rect(lx, ly, 16.0, 12.0, paint);
-        svg.text(lx + 21.0, ly + 10.5, 11.5, Anchor::Start, false, TEXT, label);
-        lx += 21.0 + text_width(label, 11.5) + 22.0;
-    }
+    legend(&mut svg, left);
 
     for (k, a) in actions.iter().enumerate() {
         let (col, row) = (k % cols, k / cols);
@@ -197,7 +177,7 @@ pub(super) fn storyboard_svg(inst: &Instance, plan: &Plan, p: &Placement, action
         // Labels are drawn last, on top of fingers and pusher: (page rect, text, bold, size).
         let mut labels: Vec<Label> = Vec::new();
         // The push distance, boxed on white: (x, y baseline, anchor, text).
-        let mut tag: Option<(f64, f64, Anchor, String)> = None;
+        let mut tag: Option<Tag> = None;
         // Targets, faint.
         for tg in &p.targets {
             v.draw(&mut svg, &tg.rect, Paint::line("#b5b5b5", 0.8).dashed("2,2"));
@@ -228,29 +208,7 @@ pub(super) fn storyboard_svg(inst: &Instance, plan: &Plan, p: &Placement, action
                 grasp_axis,
                 ..
             } => {
-                let i = *object;
-                let r = release_rect(p, i, mode);
-                if let PlaceMode::Indirect { .. } = mode {
-                    v.draw(
-                        &mut svg,
-                        &p.targets[i].rect,
-                        Paint::line(kind_colour(inst, i), 1.2).dashed("3,2"),
-                    );
-                }
-                let fill = tint(kind_colour(inst, i), 0.25);
-                v.draw(&mut svg, &r, Paint::fill(&fill, ACT_STROKE, 2.5));
-                labels.push((v.rect(&r), inst.objects[i].id.clone(), true, 13.0));
-                for hi in [false, true] {
-                    let f = finger_rect(
-                        &r,
-                        *grasp_axis,
-                        hi,
-                        g.release_clearance,
-                        g.finger_thickness,
-                        g.finger_width,
-                    );
-                    v.draw(&mut svg, &f, Paint::fill(FINGER_FILL, "none", 0.0));
-                }
+                draw_place(&mut svg, inst, p, &v, *object, mode, *grasp_axis, &mut labels);
             }
             Action::Push {
                 objects,
@@ -259,79 +217,178 @@ pub(super) fn storyboard_svg(inst: &Instance, plan: &Plan, p: &Placement, action
                 pusher_at,
                 ..
             } => {
-                for &i in objects {
-                    if let Pos::Released(r) = before[i] {
-                        v.draw(&mut svg, &r, Paint::line(kind_colour(inst, i), 1.5).dashed("5,3"));
-                    }
-                    let tr = p.targets[i].rect;
-                    let fill = tint(kind_colour(inst, i), 0.25);
-                    v.draw(&mut svg, &tr, Paint::fill(&fill, ACT_STROKE, 2.5));
-                    labels.push((v.rect(&tr), inst.objects[i].id.clone(), true, 13.0));
-                }
-                let back = *objects.last().expect("a push moves at least one object");
-                let back_rel = match before[back] {
-                    Pos::Released(r) => r,
-                    _ => p.targets[back].rect.moved(*push_dir, -distance),
-                };
-                let start = pusher_rect(
-                    &back_rel,
+                tag = Some(draw_push(
+                    &mut svg,
+                    inst,
+                    p,
+                    &v,
+                    before,
+                    objects,
                     *push_dir,
+                    *distance,
                     *pusher_at,
-                    g.release_clearance,
-                    g.finger_thickness,
-                    g.finger_width,
-                );
-                let end = pusher_rect(
-                    &p.targets[back].rect,
-                    *push_dir,
-                    *pusher_at,
-                    0.0,
-                    g.finger_thickness,
-                    g.finger_width,
-                );
-                v.draw(&mut svg, &end, Paint::line(FINGER_FILL, 1.2).dashed("3,2"));
-                v.draw(&mut svg, &start, Paint::fill(FINGER_FILL, "none", 0.0));
-                // Arrow beside the pusher's path over the push distance: from the back object's
-                // release face to its target face.
-                let axis = push_dir.axis();
-                let (a0, a1) = (back_rel.hi(axis), p.targets[back].rect.hi(axis));
-                let side = g.finger_width / 2.0 * s + 7.0;
-                let label = format!("{} cm", cm(*distance));
-                match axis {
-                    Axis2::X => {
-                        let y = v.y(*pusher_at) - side;
-                        svg.arrow(v.x(a0), y, v.x(a1), y, ACT_STROKE, 2.2);
-                        tag = Some(((v.x(a0) + v.x(a1)) / 2.0, y - 5.0, Anchor::Middle, label));
-                    }
-                    Axis2::Y => {
-                        let x = v.x(*pusher_at) + side;
-                        svg.arrow(x, v.y(a0), x, v.y(a1), ACT_STROKE, 2.2);
-                        tag = Some((x + 5.0, (v.y(a0) + v.y(a1)) / 2.0 + 4.0, Anchor::Start, label));
-                    }
-                }
+                    &mut labels,
+                ));
             }
         }
         for (rect, text, bold, size) in &labels {
             label_in(&mut svg, *rect, &[(text.as_str(), *bold)], *size);
         }
-        if let Some((x, y, anchor, text)) = tag {
-            let w = text_width(&text, 11.0);
-            let x0 = match anchor {
-                Anchor::Start => x,
-                Anchor::Middle => x - w / 2.0,
-                Anchor::End => x - w,
-            };
-            svg.rect(
-                x0 - 2.0,
-                y - 10.5,
-                w + 4.0,
-                14.0,
-                Paint::fill("#ffffff", ACT_STROKE, 0.8),
-            );
-            svg.text(x, y, 11.0, anchor, true, ACT_STROKE, &text);
+        if let Some(tag) = tag {
+            distance_tag(&mut svg, tag);
         }
     }
     svg.finish()
+}
+
+/// The line of swatches under the title that says what each fill and outline means.
+fn legend(svg: &mut Svg, left: f64) {
+    let mut lx = left;
+    let ly = 66.0;
+    let acting_fill = tint("#f28e2b", 0.25);
+    let released_fill = tint("#f28e2b", 0.8);
+    let items: [(Paint, &str); 5] = [
+        (Paint::fill(DONE_FILL, "#777777", 1.0), "at target"),
+        (
+            Paint::fill(&released_fill, "#f28e2b", 1.5).dashed("4,3"),
+            "released, waiting for its push",
+        ),
+        (Paint::fill(&acting_fill, ACT_STROKE, 2.5), "acting object"),
+        (Paint::fill(FINGER_FILL, "none", 0.0), "fingers / pusher"),
+        (Paint::line("#aaaaaa", 1.0).dashed("2,2"), "targets"),
+    ];
+    for (paint, label) in items {
+        svg.rect(lx, ly, 16.0, 12.0, paint);
+        svg.text(lx + 21.0, ly + 10.5, 11.5, Anchor::Start, false, TEXT, label);
+        lx += 21.0 + text_width(label, 11.5) + 22.0;
+    }
+}
+
+/// A place: the acting object at its release (its target outlined when it is released short of
+/// it) and the open fingers.
+#[allow(clippy::too_many_arguments)]
+fn draw_place(
+    svg: &mut Svg,
+    inst: &Instance,
+    p: &Placement,
+    v: &View,
+    i: usize,
+    mode: &PlaceMode,
+    grasp_axis: Axis2,
+    labels: &mut Vec<Label>,
+) {
+    let g = &inst.gripper;
+    let r = release_rect(p, i, mode);
+    if let PlaceMode::Indirect { .. } = mode {
+        v.draw(
+            svg,
+            &p.targets[i].rect,
+            Paint::line(kind_colour(inst, i), 1.2).dashed("3,2"),
+        );
+    }
+    let fill = tint(kind_colour(inst, i), 0.25);
+    v.draw(svg, &r, Paint::fill(&fill, ACT_STROKE, 2.5));
+    labels.push((v.rect(&r), inst.objects[i].id.clone(), true, 13.0));
+    for hi in [false, true] {
+        let f = finger_rect(
+            &r,
+            grasp_axis,
+            hi,
+            g.release_clearance,
+            g.finger_thickness,
+            g.finger_width,
+        );
+        v.draw(svg, &f, Paint::fill(FINGER_FILL, "none", 0.0));
+    }
+}
+
+/// The push distance to print: page position, anchor and text.
+type Tag = (f64, f64, Anchor, String);
+
+/// A push: the objects at their targets with their releases outlined, the pusher at its start
+/// and its end, and an arrow over the push distance; returns the distance's tag, drawn last.
+#[allow(clippy::too_many_arguments)]
+fn draw_push(
+    svg: &mut Svg,
+    inst: &Instance,
+    p: &Placement,
+    v: &View,
+    before: &[Pos],
+    objects: &[usize],
+    push_dir: PushDir,
+    distance: f64,
+    pusher_at: f64,
+    labels: &mut Vec<Label>,
+) -> Tag {
+    let g = &inst.gripper;
+    for &i in objects {
+        if let Pos::Released(r) = before[i] {
+            v.draw(svg, &r, Paint::line(kind_colour(inst, i), 1.5).dashed("5,3"));
+        }
+        let tr = p.targets[i].rect;
+        let fill = tint(kind_colour(inst, i), 0.25);
+        v.draw(svg, &tr, Paint::fill(&fill, ACT_STROKE, 2.5));
+        labels.push((v.rect(&tr), inst.objects[i].id.clone(), true, 13.0));
+    }
+    let back = *objects.last().expect("a push moves at least one object");
+    let back_rel = match before[back] {
+        Pos::Released(r) => r,
+        _ => p.targets[back].rect.moved(push_dir, -distance),
+    };
+    let start = pusher_rect(
+        &back_rel,
+        push_dir,
+        pusher_at,
+        g.release_clearance,
+        g.finger_thickness,
+        g.finger_width,
+    );
+    let end = pusher_rect(
+        &p.targets[back].rect,
+        push_dir,
+        pusher_at,
+        0.0,
+        g.finger_thickness,
+        g.finger_width,
+    );
+    v.draw(svg, &end, Paint::line(FINGER_FILL, 1.2).dashed("3,2"));
+    v.draw(svg, &start, Paint::fill(FINGER_FILL, "none", 0.0));
+    // Arrow beside the pusher's path over the push distance: from the back object's
+    // release face to its target face.
+    let axis = push_dir.axis();
+    let (a0, a1) = (back_rel.hi(axis), p.targets[back].rect.hi(axis));
+    let side = g.finger_width / 2.0 * v.s + 7.0;
+    let label = format!("{} cm", cm(distance));
+    match axis {
+        Axis2::X => {
+            let y = v.y(pusher_at) - side;
+            svg.arrow(v.x(a0), y, v.x(a1), y, ACT_STROKE, 2.2);
+            ((v.x(a0) + v.x(a1)) / 2.0, y - 5.0, Anchor::Middle, label)
+        }
+        Axis2::Y => {
+            let x = v.x(pusher_at) + side;
+            svg.arrow(x, v.y(a0), x, v.y(a1), ACT_STROKE, 2.2);
+            (x + 5.0, (v.y(a0) + v.y(a1)) / 2.0 + 4.0, Anchor::Start, label)
+        }
+    }
+}
+
+/// The push distance, boxed on white so that it reads over fingers and objects.
+fn distance_tag(svg: &mut Svg, (x, y, anchor, text): Tag) {
+    let w = text_width(&text, 11.0);
+    let x0 = match anchor {
+        Anchor::Start => x,
+        Anchor::Middle => x - w / 2.0,
+        Anchor::End => x - w,
+    };
+    svg.rect(
+        x0 - 2.0,
+        y - 10.5,
+        w + 4.0,
+        14.0,
+        Paint::fill("#ffffff", ACT_STROKE, 0.8),
+    );
+    svg.text(x, y, 11.0, anchor, true, ACT_STROKE, &text);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -19,24 +19,7 @@ pub(super) fn swept_svg(inst: &Instance, plan: &Plan, p: &Placement, actions: &[
         .map(|(k, a)| format!("{}: {}", k + 1, short_action(inst, a)))
         .collect();
     let key_size = 12.0;
-    let mut key_lines: Vec<String> = Vec::new();
-    let mut cur = String::new();
-    for item in &key {
-        let next = if cur.is_empty() {
-            item.clone()
-        } else {
-            format!("{cur}   {item}")
-        };
-        if !cur.is_empty() && text_width(&next, key_size) > width - 40.0 {
-            key_lines.push(std::mem::take(&mut cur));
-            cur = item.clone();
-        } else {
-            cur = next;
-        }
-    }
-    if !cur.is_empty() {
-        key_lines.push(cur);
-    }
+    let key_lines = wrap(&key, key_size, width - 40.0);
     let height = top + plot_h + 60.0 + key_lines.len() as f64 * (key_size * 1.5) + 16.0;
     let mut svg = Svg::new(width, height);
     svg.comment(&format!("pushpack swept area of {}", inst.name));
@@ -46,39 +29,7 @@ pub(super) fn swept_svg(inst: &Instance, plan: &Plan, p: &Placement, actions: &[
     let px = |k: f64| left + k * step_px;
     let py = |a: f64| top + plot_h - a / ymax * plot_h;
 
-    svg.text(
-        20.0,
-        30.0,
-        18.0,
-        Anchor::Start,
-        true,
-        TEXT,
-        &format!("Swept area after each step \u{2014} {}", inst.name),
-    );
-    svg.text(
-        20.0,
-        52.0,
-        13.0,
-        Anchor::Start,
-        false,
-        TEXT,
-        "bounding rectangle from C's origin of every footprint so far, release poses included",
-    );
-    svg.text(
-        20.0,
-        72.0,
-        13.0,
-        Anchor::Start,
-        false,
-        TEXT,
-        &format!(
-            "final {:.1} cm\u{b2} (plan metric {:.1} cm\u{b2}) \u{b7} occupied area {:.1} cm\u{b2} \u{b7} floor {:.0} cm\u{b2}",
-            vals.last().copied().unwrap_or(0.0),
-            plan.metrics.swept_area * 1e4,
-            occupied,
-            floor
-        ),
-    );
+    titles(&mut svg, inst, plan, &vals, occupied, floor);
     // Grid and axes.
     let mut y = 0.0;
     while y <= ymax + 1e-9 {
@@ -173,4 +124,65 @@ pub(super) fn swept_svg(inst: &Instance, plan: &Plan, p: &Placement, actions: &[
         ky += key_size * 1.5;
     }
     svg.finish()
+}
+
+/// Items joined by three spaces into lines no wider than `max_width` at font `size`; an item
+/// wider than that gets a line of its own.
+fn wrap(items: &[String], size: f64, max_width: f64) -> Vec<String> {
+    let mut key_lines: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for item in items {
+        let next = if cur.is_empty() {
+            item.clone()
+        } else {
+            format!("{cur}   {item}")
+        };
+        if !cur.is_empty() && text_width(&next, size) > max_width {
+            key_lines.push(std::mem::take(&mut cur));
+            cur = item.clone();
+        } else {
+            cur = next;
+        }
+    }
+    if !cur.is_empty() {
+        key_lines.push(cur);
+    }
+    key_lines
+}
+
+/// The title, what the curve measures, and the final swept, occupied and floor areas (cm²).
+fn titles(svg: &mut Svg, inst: &Instance, plan: &Plan, vals: &[f64], occupied: f64, floor: f64) {
+    svg.text(
+        20.0,
+        30.0,
+        18.0,
+        Anchor::Start,
+        true,
+        TEXT,
+        &format!("Swept area after each step \u{2014} {}", inst.name),
+    );
+    svg.text(
+        20.0,
+        52.0,
+        13.0,
+        Anchor::Start,
+        false,
+        TEXT,
+        "bounding rectangle from C's origin of every footprint so far, release poses included",
+    );
+    svg.text(
+        20.0,
+        72.0,
+        13.0,
+        Anchor::Start,
+        false,
+        TEXT,
+        &format!(
+            "final {:.1} cm\u{b2} (plan metric {:.1} cm\u{b2}) \u{b7} occupied area {:.1} cm\u{b2} \u{b7} floor {:.0} cm\u{b2}",
+            vals.last().copied().unwrap_or(0.0),
+            plan.metrics.swept_area * 1e4,
+            occupied,
+            floor
+        ),
+    );
 }

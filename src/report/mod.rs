@@ -8,6 +8,7 @@ pub mod tables;
 
 use crate::bench::row::{read_jsonl, result_files, ResultRow, RunStatus};
 use crate::error::{Error, Result};
+use crate::status::Status;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -158,10 +159,16 @@ pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>, comm
         failed: rows.iter().filter(|r| r.status.is_failure()).count(),
         timeout: rows
             .iter()
-            .filter(|r| matches!(r.status, RunStatus::TimeLimit | RunStatus::Killed))
+            .filter(|r| matches!(r.status, RunStatus::Planner(Status::TimeLimit) | RunStatus::Killed))
             .count(),
-        node_limit: rows.iter().filter(|r| r.status == RunStatus::NodeLimit).count(),
-        infeasible: rows.iter().filter(|r| r.status == RunStatus::Infeasible).count(),
+        node_limit: rows
+            .iter()
+            .filter(|r| r.status == RunStatus::Planner(Status::NodeLimit))
+            .count(),
+        infeasible: rows
+            .iter()
+            .filter(|r| r.status == RunStatus::Planner(Status::Infeasible))
+            .count(),
         common: compared.len(),
         median_time: median(&times),
         median_placement_s: stage(&|r| r.placement_time_s),
@@ -411,7 +418,7 @@ the solved share. `performance_profile.svg` draws it.\n",
     let failures: Vec<&ResultRow> = rows
         .iter()
         // A proven-infeasible run answered its question: it is not a failure.
-        .filter(|r| !r.solved() && r.status != RunStatus::Infeasible)
+        .filter(|r| !r.solved() && r.status != RunStatus::Planner(Status::Infeasible))
         .collect();
     if !failures.is_empty() {
         let _ = writeln!(s, "\n## Runs without a verified plan\n");
@@ -568,7 +575,7 @@ mod tests {
         .expect("bundled example");
         let mut r = base_row(inst, &i, &PlannerSpec::parse(planner, "p").expect("spec"), 5.0);
         if let Some(l) = len {
-            r.status = RunStatus::Optimal;
+            r.status = RunStatus::Planner(Status::Optimal);
             r.verify = Some("valid".into());
             r.seq_len = Some(l);
             r.occupied_area = Some(l as f64);

@@ -243,13 +243,31 @@ impl<'a> Replay<'a> {
         self.grow(&rel);
     }
 
+    /// Replay a push: the line is released for it, its offsets and distance agree, the pusher
+    /// and the objects sweep through nothing, the push model accepts it and the plan records
+    /// what it recomputes. The objects end at their targets.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn push(&mut self, step: usize, line: &[usize], dir: PushDir, distance: f64, at: f64, e: &ActionEntry) {
-        use ViolationClass::*;
         let s = Some(step);
-        let g = self.inst.gripper;
+        let Some((rel, offsets)) = self.pushed_releases(s, line, dir) else {
+            return; // geometry of the push is undefined; the objects stay where they are
+        };
+        self.check_line_offsets(s, line, &offsets, distance);
+        self.check_push_space(s, line, dir, at, &rel);
+        self.check_push_stability(s, line, dir, at, &offsets, e);
+        for &i in line {
+            self.state[i] = Where::AtTarget;
+            let t = self.target(i);
+            self.grow(&t);
+        }
+    }
+
+    /// Where the pushed objects were released, and their offsets, when every one was released
+    /// for this push (else `None`, with what is wrong flagged); also flags a line whose targets
+    /// do not touch.
+    fn pushed_releases(&mut self, s: Option<usize>, line: &[usize], dir: PushDir) -> Option<(Vec<Rect>, Vec<f64>)> {
+        use ViolationClass::*;
         let axis = dir.axis();
-        let names: Vec<&str> = line.iter().map(|&i| self.id(i)).collect();
         for (k, &i) in line.iter().enumerate() {
             if line[..k].contains(&i) {
                 self.flag(
@@ -257,7 +275,7 @@ impl<'a> Replay<'a> {
                     Precedence,
                     format!("{} appears twice in the pushed line", self.id(i)),
                 );
-                return;
+                return None;
             }
         }
         // Every pushed object must be released for this push.
@@ -299,9 +317,13 @@ impl<'a> Replay<'a> {
                 );
             }
         }
-        if rel.len() != line.len() {
-            return; // geometry of the push is undefined; the objects stay where they are
-        }
+        (rel.len() == line.len()).then_some((rel, offsets))
+    }
+
+    /// Offsets do not decrease toward the back, and the push distance is the back object's.
+    fn check_line_offsets(&mut self, s: Option<usize>, line: &[usize], offsets: &[f64], distance: f64) {
+        use ViolationClass::Precedence;
+        let names: Vec<&str> = line.iter().map(|&i| self.id(i)).collect();
         let back = *line.last().expect("a push moves at least one object");
         let back_off = *offsets.last().expect("same length as line");
         for k in 1..offsets.len() {
@@ -329,6 +351,14 @@ impl<'a> Replay<'a> {
                 ),
             );
         }
+    }
+
+    /// The pusher lowers behind the back object without a hit, and neither the pushed objects
+    /// nor the pusher sweep through anything.
+    fn check_push_space(&mut self, s: Option<usize>, line: &[usize], dir: PushDir, at: f64, rel: &[Rect]) {
+        use ViolationClass::*;
+        let g = self.inst.gripper;
+        let back = *line.last().expect("a push moves at least one object");
         // Lowering the closed fingers behind the back object.
         let back_rel = rel[rel.len() - 1];
         let lower = slabs::pusher_slab(&g, &back_rel, dir, at, g.release_clearance, self.top);
@@ -378,6 +408,23 @@ impl<'a> Replay<'a> {
                 );
             }
         }
+    }
+
+    /// The push model accepts the push, and the plan records the margin and travel phase it
+    /// recomputes.
+    #[allow(clippy::too_many_arguments)]
+    fn check_push_stability(
+        &mut self,
+        s: Option<usize>,
+        line: &[usize],
+        dir: PushDir,
+        at: f64,
+        offsets: &[f64],
+        e: &ActionEntry,
+    ) {
+        use ViolationClass::PushStability;
+        let names: Vec<&str> = line.iter().map(|&i| self.id(i)).collect();
+        let back = *line.last().expect("a push moves at least one object");
         // Stability with the planner's mechanical model and the instance's tolerances, phases
         // from the gaps between releases, each lasting its gap (docs/push_stability.md §5.4).
         let gaps: Vec<f64> = offsets.windows(2).map(|w| (w[1] - w[0]).max(0.0)).collect();
@@ -419,11 +466,6 @@ impl<'a> Replay<'a> {
                 format!("recorded margin {m:.6} m differs from the recomputed {margin:.6} m"),
             ),
             _ => {}
-        }
-        for &i in line {
-            self.state[i] = Where::AtTarget;
-            let t = self.target(i);
-            self.grow(&t);
         }
     }
 

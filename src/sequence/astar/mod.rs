@@ -18,7 +18,7 @@
 
 use super::{metrics, SearchStatus, SequenceOptions, SequenceResult};
 use crate::actions::{push, Action, Layout, ObjState, PlaceMode};
-use crate::control::Terminator;
+use crate::control::{Event, Listener, Silent, Stage, Terminator, Ticker};
 use crate::error::{Error, Result};
 use crate::geometry::Arm;
 use crate::geometry::{Axis2, PushDir, EPS};
@@ -49,11 +49,13 @@ use hits::*;
 pub use lines::*;
 pub use search::*;
 
-/// A* settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A* settings ([`crate::plan::PlanOptions::astar`]; a missing field takes its default).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct AstarSettings {
-    /// Largest indirect offset as a multiple of the minimum offset `d` (default 3). An object
-    /// that is the k-th of a line may also use offsets up to `k·d`, the paper's staggering.
+    /// Largest indirect offset as a multiple of the minimum offset `d` (default 3, at most
+    /// [`MAX_OFFSET_STEPS`]). An object that is the k-th of a line may also use offsets up to
+    /// `k·d`, the paper's staggering.
     pub max_offset_steps: usize,
     /// Node budget of the greedy dive that provides the first incumbent (default 20,000).
     pub dive_nodes: u64,
@@ -355,8 +357,7 @@ fn obj_key(state: &[ObjState], d: f64) -> Vec<u8> {
         .collect()
 }
 
-/// Largest `max_offset_steps` the compact state key can represent.
-pub const MAX_OFFSET_STEPS: usize = 100;
+pub use crate::instance::MAX_OFFSET_STEPS;
 
 /// A plan and its cost.
 type Incumbent = (Cost, Vec<Scored>);

@@ -15,13 +15,6 @@ pub(super) fn path_to(graph: &DiGraph<Node, Scored>, node: NodeIndex) -> Vec<Sco
 }
 
 /// Run the A* search.
-///
-/// Long on purpose, for now: its phases (the dive for an incumbent, the deepening that proves
-/// the fewest actions, the smallest swept-area box, the main best-first loop, and reading the
-/// result back) share about twenty pieces of mutable state (open list, labels, incumbent,
-/// counters, the graph), and splitting them needs a search-state struct of its own; the order
-/// of operations must stay exactly as it is (the golden plans and the exhaustive cross-checks
-/// pin it). Tracked in issue 22's note.
 pub fn solve(
     inst: &Instance,
     placement: &Placement,
@@ -29,7 +22,37 @@ pub fn solve(
     settings: &AstarSettings,
     stop: &dyn Terminator,
 ) -> Result<SequenceResult> {
+    solve_with(inst, placement, opts, settings, stop, &mut Silent)
+}
+
+/// [`solve`], telling `progress` how the search goes ([`Event::Progress`]: nodes, the best
+/// plan's number of actions, the proven lower bound on it) at most every
+/// [`crate::control::PROGRESS_INTERVAL`].
+///
+/// Long on purpose, for now: its phases (the dive for an incumbent, the deepening that proves
+/// the fewest actions, the smallest swept-area box, the main best-first loop, and reading the
+/// result back) share about twenty pieces of mutable state (open list, labels, incumbent,
+/// counters, the graph), and splitting them needs a search-state struct of its own; the order
+/// of operations must stay exactly as it is (the golden plans and the exhaustive cross-checks
+/// pin it). Tracked in issue 22's note.
+pub fn solve_with(
+    inst: &Instance,
+    placement: &Placement,
+    opts: &SequenceOptions,
+    settings: &AstarSettings,
+    stop: &dyn Terminator,
+    progress: &mut dyn Listener,
+) -> Result<SequenceResult> {
     let start = Instant::now();
+    let mut ticker = Ticker::new();
+    let mut report = |nodes: u64, incumbent: Option<usize>, bound: usize| {
+        progress.event(&Event::Progress {
+            stage: Stage::Sequence,
+            nodes,
+            incumbent: incumbent.map(|l| l as f64),
+            bound: Some(incumbent.map_or(bound, |l| l.min(bound)) as f64),
+        })
+    };
     if settings.max_offset_steps == 0 || settings.max_offset_steps > MAX_OFFSET_STEPS {
         return Err(Error::input(
             "<settings>",
@@ -88,6 +111,9 @@ pub fn solve(
     let trace = settings.trace;
     loop {
         let hi = incumbent.as_ref().map(|(c, _)| c.len);
+        if ticker.due() {
+            report(0, hi, len_lo);
+        }
         if trace {
             eprintln!(
                 "phase 1 at {:.2}s: proven >= {len_lo}, plan {hi:?}, {} calls, slice {slice}",
@@ -221,6 +247,11 @@ pub fn solve(
             }
         }
         nodes += 1;
+        if ticker.due() {
+            // Best-first: no plan costs less than the least bound open, the one just popped.
+            let proven = f.len.max(s.lstar.get().unwrap_or(len_lo));
+            report(nodes, incumbent.as_ref().map(|(c, _)| c.len), proven);
+        }
         if nodes >= opts.max_nodes {
             status = SearchStatus::NodeLimit;
             open.push(Open { f, seq: 0, node });

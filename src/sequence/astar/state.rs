@@ -12,119 +12,19 @@ impl<'a> Search<'a> {
         let zt = transfer_z(inst);
         let g = &inst.gripper;
         let layout = Layout::new(inst, placement);
-        let floor = inst.container.floor();
-        let walls = inst.container.walls();
         let ranks = PushDir::ALL.map(|dir| line_rank(placement, dir));
         let steps: Vec<[usize; 2]> = (0..inst.n())
             .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
             .collect();
-        // Per push direction and object, the lateral range of the pusher of any line ending at
-        // it: the pusher is centred on a weighted mean of the members' lateral centres, and the
-        // members are objects in front of it (transitively).
         let front_to_back = PushDir::ALL.map(|dir| {
             let lo = |i: usize| placement.targets[i].rect.lo(dir.axis());
             let mut order: Vec<usize> = (0..inst.n()).collect();
             order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)));
             order
         });
-        let pusher_range: [Vec<[f64; 2]>; 2] = [0, 1].map(|k| {
-            let dir = PushDir::ALL[k];
-            let lat = dir.axis().other();
-            let centre = |i: usize| {
-                let r = placement.targets[i].rect;
-                (r.lo(lat) + r.hi(lat)) / 2.0
-            };
-            let order = &front_to_back[k];
-            let mut range: Vec<[f64; 2]> = (0..inst.n()).map(|i| [centre(i), centre(i)]).collect();
-            // Front to back: everything in front of `b` is done before it.
-            for (k, &b) in order.iter().enumerate() {
-                for &a in &order[..k] {
-                    if behind(placement, dir, a, b) {
-                        range[b] = [range[b][0].min(range[a][0]), range[b][1].max(range[a][1])];
-                    }
-                }
-            }
-            range
-        });
+        let pusher_range = pusher_range(inst, placement, &front_to_back);
         let info: Vec<ObjectInfo> = (0..inst.n())
-            .map(|i| {
-                let o = &inst.objects[i];
-                let (_, h_table) = o.table_footprint();
-                let grasp_z = inst.robot.table_z + h_table - g.grasp_depth;
-                let t = placement.targets[i];
-                let c = t.rect.center();
-                let release = inst.container.to_world([c[0], c[1], t.height - g.grasp_depth]);
-                let never_direct = [Axis2::X, Axis2::Y].iter().all(|&ax| {
-                    t.rect.extent(ax) + 2.0 * g.release_clearance > g.max_opening + EPS
-                        || layout
-                            .finger_slabs(&t.rect, t.height, ax)
-                            .iter()
-                            .any(|s| walls.iter().any(|w| w.intersects(s)))
-                });
-                let nearest = PushDir::ALL.map(|d| t.rect.moved(d, -g.min_offset));
-                let push_dir_ok = nearest.map(|r| r.inside(&floor));
-                let release_ext = nearest
-                    .iter()
-                    .filter(|r| r.inside(&floor))
-                    .map(|r| [r.x1, r.y1])
-                    .collect();
-                let pre_grasp = Vector3::new(o.table.x, o.table.y, zt);
-                let pc = inst.container.from_world(&pre_grasp);
-                let pre_grasp_c = [pc[0], pc[1]];
-                // Releases go against the push direction (+x or +y in C) by up to the object's
-                // largest offset; a push ends with the fingers half a thickness behind the
-                // target, within its lateral extent.
-                let reach = [0, 1].map(|k| {
-                    if push_dir_ok[k] {
-                        g.min_offset * steps[i][k] as f64
-                    } else {
-                        0.0
-                    }
-                });
-                let half_t = g.finger_thickness / 2.0;
-                // Bounding box of the release centres and of the push ends.
-                let mut end_region = crate::geometry::Rect {
-                    x0: c[0],
-                    y0: c[1],
-                    x1: c[0] + reach[0],
-                    y1: c[1] + reach[1],
-                };
-                if push_dir_ok[0] {
-                    let [lo, hi] = pusher_range[0][i];
-                    end_region = end_region.union(&crate::geometry::Rect {
-                        x0: t.rect.x1 + half_t,
-                        x1: t.rect.x1 + half_t,
-                        y0: lo,
-                        y1: hi,
-                    });
-                }
-                if push_dir_ok[1] {
-                    let [lo, hi] = pusher_range[1][i];
-                    end_region = end_region.union(&crate::geometry::Rect {
-                        x0: lo,
-                        x1: hi,
-                        y0: t.rect.y1 + half_t,
-                        y1: t.rect.y1 + half_t,
-                    });
-                }
-                let seg = |u: [f64; 2], len: f64| {
-                    let v = [pre_grasp_c[0] - c[0], pre_grasp_c[1] - c[1]];
-                    let s = (v[0] * u[0] + v[1] * u[1]).clamp(0.0, len);
-                    (v[0] - s * u[0]).hypot(v[1] - s * u[1])
-                };
-                let transfer_min = seg([1.0, 0.0], reach[0]).min(seg([0.0, 1.0], reach[1]));
-                ObjectInfo {
-                    pre_grasp_c,
-                    end_region,
-                    transfer_min,
-                    pre_grasp,
-                    pick_vertical: 2.0 * (zt - grasp_z),
-                    release_vertical: 2.0 * (zt - release.z),
-                    never_direct: never_direct || opts.no_direct,
-                    release_ext,
-                    push_dir_ok,
-                }
-            })
+            .map(|i| object_info(inst, placement, &opts, &layout, &steps[i], &pusher_range, i))
             .collect();
         let w = inst.container.width;
         let d = inst.container.depth;
@@ -155,22 +55,8 @@ impl<'a> Search<'a> {
         } else {
             Vec::new()
         };
-        // Offset steps index the bit masks of `PlaceHits`.
-        let (release_hits, direct_hits) = if push_lines.is_some() && steps.iter().flatten().all(|&m| m < 64) {
-            let d = g.min_offset;
-            let indirect = (0..inst.n())
-                .map(|i| {
-                    [0, 1].map(|k| {
-                        (1..=steps[i][k])
-                            .map(|m| place_hits(inst, placement, &steps, i, indirect_mode(k, m, d)))
-                            .collect()
-                    })
-                })
-                .collect();
-            let direct = (0..inst.n())
-                .map(|i| place_hits(inst, placement, &steps, i, PlaceMode::Direct))
-                .collect();
-            (indirect, direct)
+        let (release_hits, direct_hits) = if push_lines.is_some() {
+            place_hit_tables(inst, placement, &steps)
         } else {
             (Vec::new(), Vec::new())
         };
@@ -285,4 +171,149 @@ impl<'a> Search<'a> {
         l.state = state.to_vec();
         l
     }
+}
+
+/// Per push direction and object, the lateral range of the pusher of any line ending at it: the
+/// pusher is centred on a weighted mean of the members' lateral centres, and the members are
+/// objects in front of it (transitively).
+fn pusher_range(inst: &Instance, placement: &Placement, front_to_back: &[Vec<usize>; 2]) -> [Vec<[f64; 2]>; 2] {
+    [0, 1].map(|k| {
+        let dir = PushDir::ALL[k];
+        let lat = dir.axis().other();
+        let centre = |i: usize| {
+            let r = placement.targets[i].rect;
+            (r.lo(lat) + r.hi(lat)) / 2.0
+        };
+        let order = &front_to_back[k];
+        let mut range: Vec<[f64; 2]> = (0..inst.n()).map(|i| [centre(i), centre(i)]).collect();
+        // Front to back: everything in front of `b` is done before it.
+        for (k, &b) in order.iter().enumerate() {
+            for &a in &order[..k] {
+                if behind(placement, dir, a, b) {
+                    range[b] = [range[b][0].min(range[a][0]), range[b][1].max(range[a][1])];
+                }
+            }
+        }
+        range
+    })
+}
+
+/// What the search keeps of object `i`: its pick and release points, where its pushes can end,
+/// and which of its placements the gripper or the walls rule out.
+fn object_info(
+    inst: &Instance,
+    placement: &Placement,
+    opts: &SequenceOptions,
+    layout: &Layout,
+    steps: &[usize; 2],
+    pusher_range: &[Vec<[f64; 2]>; 2],
+    i: usize,
+) -> ObjectInfo {
+    let g = &inst.gripper;
+    let zt = transfer_z(inst);
+    let floor = inst.container.floor();
+    let walls = inst.container.walls();
+    let o = &inst.objects[i];
+    let (_, h_table) = o.table_footprint();
+    let grasp_z = inst.robot.table_z + h_table - g.grasp_depth;
+    let t = placement.targets[i];
+    let c = t.rect.center();
+    let release = inst.container.to_world([c[0], c[1], t.height - g.grasp_depth]);
+    let never_direct = [Axis2::X, Axis2::Y].iter().all(|&ax| {
+        t.rect.extent(ax) + 2.0 * g.release_clearance > g.max_opening + EPS
+            || layout
+                .finger_slabs(&t.rect, t.height, ax)
+                .iter()
+                .any(|s| walls.iter().any(|w| w.intersects(s)))
+    });
+    let nearest = PushDir::ALL.map(|d| t.rect.moved(d, -g.min_offset));
+    let push_dir_ok = nearest.map(|r| r.inside(&floor));
+    let release_ext = nearest
+        .iter()
+        .filter(|r| r.inside(&floor))
+        .map(|r| [r.x1, r.y1])
+        .collect();
+    let pre_grasp = Vector3::new(o.table.x, o.table.y, zt);
+    let pc = inst.container.from_world(&pre_grasp);
+    let pre_grasp_c = [pc[0], pc[1]];
+    // Releases go against the push direction (+x or +y in C) by up to the object's
+    // largest offset; a push ends with the fingers half a thickness behind the
+    // target, within its lateral extent.
+    let reach = [0, 1].map(|k| {
+        if push_dir_ok[k] {
+            g.min_offset * steps[k] as f64
+        } else {
+            0.0
+        }
+    });
+    let half_t = g.finger_thickness / 2.0;
+    // Bounding box of the release centres and of the push ends.
+    let mut end_region = crate::geometry::Rect {
+        x0: c[0],
+        y0: c[1],
+        x1: c[0] + reach[0],
+        y1: c[1] + reach[1],
+    };
+    if push_dir_ok[0] {
+        let [lo, hi] = pusher_range[0][i];
+        end_region = end_region.union(&crate::geometry::Rect {
+            x0: t.rect.x1 + half_t,
+            x1: t.rect.x1 + half_t,
+            y0: lo,
+            y1: hi,
+        });
+    }
+    if push_dir_ok[1] {
+        let [lo, hi] = pusher_range[1][i];
+        end_region = end_region.union(&crate::geometry::Rect {
+            x0: lo,
+            x1: hi,
+            y0: t.rect.y1 + half_t,
+            y1: t.rect.y1 + half_t,
+        });
+    }
+    let seg = |u: [f64; 2], len: f64| {
+        let v = [pre_grasp_c[0] - c[0], pre_grasp_c[1] - c[1]];
+        let s = (v[0] * u[0] + v[1] * u[1]).clamp(0.0, len);
+        (v[0] - s * u[0]).hypot(v[1] - s * u[1])
+    };
+    let transfer_min = seg([1.0, 0.0], reach[0]).min(seg([0.0, 1.0], reach[1]));
+    ObjectInfo {
+        pre_grasp_c,
+        end_region,
+        transfer_min,
+        pre_grasp,
+        pick_vertical: 2.0 * (zt - grasp_z),
+        release_vertical: 2.0 * (zt - release.z),
+        never_direct: never_direct || opts.no_direct,
+        release_ext,
+        push_dir_ok,
+    }
+}
+
+/// Per object, what can stop each of its indirect placements (per push direction and offset
+/// step) and its direct placement; empty when an offset step would not fit the bit masks of
+/// `PlaceHits`.
+fn place_hit_tables(
+    inst: &Instance,
+    placement: &Placement,
+    steps: &[[usize; 2]],
+) -> (Vec<[Vec<PlaceHits>; 2]>, Vec<PlaceHits>) {
+    if !steps.iter().flatten().all(|&m| m < 64) {
+        return (Vec::new(), Vec::new());
+    }
+    let d = inst.gripper.min_offset;
+    let indirect = (0..inst.n())
+        .map(|i| {
+            [0, 1].map(|k| {
+                (1..=steps[i][k])
+                    .map(|m| place_hits(inst, placement, steps, i, indirect_mode(k, m, d)))
+                    .collect()
+            })
+        })
+        .collect();
+    let direct = (0..inst.n())
+        .map(|i| place_hits(inst, placement, steps, i, PlaceMode::Direct))
+        .collect();
+    (indirect, direct)
 }

@@ -84,35 +84,11 @@ pub(super) fn unit(file: &str, field: &str, v: V2) -> Result<V2> {
     }
 }
 
+/// A checked scenario from its file: each step checks its own fields, in the order a reader
+/// meets them, so the first bad field is the one an error names.
 pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
-    let scale = match f.units.as_deref() {
-        None | Some("m") => 1.0,
-        Some("cm") => 0.01,
-        Some("mm") => 0.001,
-        Some(other) => {
-            return Err(err(
-                file,
-                "units",
-                format!("must be \"m\", \"cm\" or \"mm\", got \"{other}\""),
-            ))
-        }
-    };
-    let u = match &f.push_dir {
-        DirSpec::Named(s) => match s.as_str() {
-            "-x" => [-1.0, 0.0],
-            "+x" | "x" => [1.0, 0.0],
-            "-y" => [0.0, -1.0],
-            "+y" | "y" => [0.0, 1.0],
-            other => {
-                return Err(err(
-                    file,
-                    "push_dir",
-                    format!("must be \"-x\", \"+x\", \"-y\", \"+y\" or [ux, uy], got \"{other}\""),
-                ))
-            }
-        },
-        DirSpec::Vector(v) => unit(file, "push_dir", *v)?,
-    };
+    let scale = units_scale(file, f.units.as_deref())?;
+    let u = push_direction(file, &f.push_dir)?;
     let gravity = match f.gravity {
         Some(g) => positive(file, "gravity", g)?,
         None => crate::instance::GRAVITY,
@@ -147,7 +123,81 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
     if f.boxes.is_empty() {
         return Err(err(file, "boxes", "needs at least one box"));
     }
-    // Bodies.
+    let (mut bodies, box_mu) = bodies(&f, file, scale, [mu_floor, mu_obj, mu_finger])?;
+    let (mut pusher, height) = pusher_face(&f, file, scale, u, &bodies)?;
+    check_overlaps(file, &bodies, &pusher)?;
+    let gaps = close_gaps(&f, file, scale, u, &mut bodies, &mut pusher)?;
+    let contacts = closed_contacts(file, &bodies, &pusher, height, &box_mu)?;
+    let k = bodies.len();
+    let gap_flags: Vec<bool> = gaps[..k - 1].iter().map(|&g| g > TOL).collect();
+    let mut model = PushModel::new(u, bodies, contacts, &gap_flags);
+    model.gravity = gravity;
+    // Phase `s > 0` (boxes `s..k`) lasts until it closes the gap in front of box `s`.
+    model.phase_travel = model
+        .phase_starts
+        .iter()
+        .map(|&s| if s == 0 { f64::INFINITY } else { gaps[s - 1] })
+        .collect();
+    let uncertainty = uncertainty(&f, file, scale, &model, &box_mu)?;
+    Ok(Scenario {
+        source: file.to_string(),
+        name: f.name.unwrap_or_else(|| file.to_string()),
+        mode: f.mode,
+        model,
+        gaps,
+        uncertainty,
+        options: CheckOptions {
+            cone_shrink,
+            max_rotation,
+            max_drift,
+            tol: min_margin,
+        },
+    })
+}
+
+/// A box's object–object and finger friction coefficients.
+type BoxFriction = (f64, f64);
+
+/// Metres per unit of the file's lengths.
+fn units_scale(file: &str, units: Option<&str>) -> Result<f64> {
+    Ok(match units {
+        None | Some("m") => 1.0,
+        Some("cm") => 0.01,
+        Some("mm") => 0.001,
+        Some(other) => {
+            return Err(err(
+                file,
+                "units",
+                format!("must be \"m\", \"cm\" or \"mm\", got \"{other}\""),
+            ))
+        }
+    })
+}
+
+/// The push direction, named or as a vector (made unit).
+fn push_direction(file: &str, spec: &DirSpec) -> Result<V2> {
+    Ok(match spec {
+        DirSpec::Named(s) => match s.as_str() {
+            "-x" => [-1.0, 0.0],
+            "+x" | "x" => [1.0, 0.0],
+            "-y" => [0.0, -1.0],
+            "+y" | "y" => [0.0, 1.0],
+            other => {
+                return Err(err(
+                    file,
+                    "push_dir",
+                    format!("must be \"-x\", \"+x\", \"-y\", \"+y\" or [ux, uy], got \"{other}\""),
+                ))
+            }
+        },
+        DirSpec::Vector(v) => unit(file, "push_dir", *v)?,
+    })
+}
+
+/// The boxes, front to back, in metres, with their floor friction; and per box its
+/// object–object and finger friction, each defaulting to the file's `friction`.
+fn bodies(f: &ScenarioFile, file: &str, scale: f64, mu: [f64; 3]) -> Result<(Vec<Body>, Vec<BoxFriction>)> {
+    let [mu_floor, mu_obj, mu_finger] = mu;
     let mut bodies = Vec::with_capacity(f.boxes.len());
     let mut box_mu = Vec::with_capacity(f.boxes.len());
     for (i, b) in f.boxes.iter().enumerate() {
@@ -190,7 +240,12 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             mf,
         ));
     }
-    // Pusher.
+    Ok((bodies, box_mu))
+}
+
+/// The pusher's face (two end points, m, as placed in the file) and its fingertip height,
+/// below the top of the back box and facing along the push direction.
+fn pusher_face(f: &ScenarioFile, file: &str, scale: f64, u: V2, bodies: &[Body]) -> Result<(Vec<V2>, f64)> {
     let p = &f.pusher;
     for k in 0..2 {
         finite(file, &format!("pusher.point[{k}]"), p.point[k])?;
@@ -221,11 +276,15 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
     }
     let pc = [p.point[0] * scale, p.point[1] * scale];
     let pd = [-pn[1], pn[0]];
-    let mut pusher = vec![
+    let pusher = vec![
         [pc[0] - width / 2.0 * pd[0], pc[1] - width / 2.0 * pd[1]],
         [pc[0] + width / 2.0 * pd[0], pc[1] + width / 2.0 * pd[1]],
     ];
-    // Overlaps and gaps, closing the line from the front.
+    Ok((pusher, height))
+}
+
+/// No two boxes overlap, and the pusher's face cuts into none.
+fn check_overlaps(file: &str, bodies: &[Body], pusher: &[V2]) -> Result<()> {
     let k = bodies.len();
     let polys: Vec<Vec<V2>> = bodies.iter().map(|b| b.corners().to_vec()).collect();
     for i in 0..k {
@@ -250,8 +309,21 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             ));
         }
     }
-    // Close the gaps from the front: everything behind body m moves by the gaps closed so far.
-    let originals: Vec<Vec<V2>> = polys.clone();
+    Ok(())
+}
+
+/// Close the gaps from the front: everything behind body `m` moves along `u` by the gaps closed
+/// so far. Returns the gap in front of each box and the pusher's (the last is the pusher's).
+fn close_gaps(
+    f: &ScenarioFile,
+    file: &str,
+    scale: f64,
+    u: V2,
+    bodies: &mut [Body],
+    pusher: &mut Vec<V2>,
+) -> Result<Vec<f64>> {
+    let k = bodies.len();
+    let originals: Vec<Vec<V2>> = bodies.iter().map(|b| b.corners().to_vec()).collect();
     let pusher_orig = pusher.clone();
     let mut gaps = Vec::with_capacity(k);
     let mut total = 0.0;
@@ -289,10 +361,22 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             b.centre = [orig[0] * scale + total * u[0], orig[1] * scale + total * u[1]];
             b.cof = b.centre;
         } else {
-            pusher = translate(&pusher_orig, u, total);
+            *pusher = translate(&pusher_orig, u, total);
         }
     }
-    // Contacts in the closed configuration.
+    Ok(gaps)
+}
+
+/// The contacts of the closed line: each box with the one behind it, the back box with the
+/// pusher (from its fingertip `height` up).
+fn closed_contacts(
+    file: &str,
+    bodies: &[Body],
+    pusher: &[V2],
+    height: f64,
+    box_mu: &[BoxFriction],
+) -> Result<Vec<Contact>> {
+    let k = bodies.len();
     let mut contacts = Vec::with_capacity(k);
     for m in 0..k {
         let front = bodies[m].corners().to_vec();
@@ -306,7 +390,7 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             )
         } else {
             (
-                pusher.clone(),
+                pusher.to_vec(),
                 ContactKind::Pusher,
                 [height, bodies[m].height],
                 box_mu[m].1,
@@ -331,17 +415,20 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             mu,
         });
     }
-    let gap_flags: Vec<bool> = gaps[..k - 1].iter().map(|&g| g > TOL).collect();
-    let mut model = PushModel::new(u, bodies, contacts, &gap_flags);
-    model.gravity = gravity;
-    // Phase `s > 0` (boxes `s..k`) lasts until it closes the gap in front of box `s`.
-    model.phase_travel = model
-        .phase_starts
-        .iter()
-        .map(|&s| if s == 0 { f64::INFINITY } else { gaps[s - 1] })
-        .collect();
-    // Uncertainty.
-    let uncertainty = match (&f.robust, f.mode.robust()) {
+    Ok(contacts)
+}
+
+/// The uncertainty set of a robust scenario: friction intervals that contain the nominal
+/// values, and a centre-of-friction region within every footprint.
+fn uncertainty(
+    f: &ScenarioFile,
+    file: &str,
+    scale: f64,
+    model: &PushModel,
+    box_mu: &[BoxFriction],
+) -> Result<Option<UncertaintySet>> {
+    let k = model.bodies.len();
+    Ok(match (&f.robust, f.mode.robust()) {
         (None, true) => {
             return Err(err(
                 file,
@@ -395,7 +482,7 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
                     ));
                 }
             }
-            let mut set = UncertaintySet::nominal(&model);
+            let mut set = UncertaintySet::nominal(model);
             for (i, b) in model.bodies.iter().enumerate() {
                 if let Some(iv) = mf {
                     set.mu_floor[i] = iv;
@@ -415,19 +502,5 @@ pub(super) fn build(f: ScenarioFile, file: &str) -> Result<Scenario> {
             set.cof = vec![cof; k];
             Some(set)
         }
-    };
-    Ok(Scenario {
-        source: file.to_string(),
-        name: f.name.unwrap_or_else(|| file.to_string()),
-        mode: f.mode,
-        model,
-        gaps,
-        uncertainty,
-        options: CheckOptions {
-            cone_shrink,
-            max_rotation,
-            max_drift,
-            tol: min_margin,
-        },
     })
 }
