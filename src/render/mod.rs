@@ -9,7 +9,8 @@
 //! * `storyboard.svg` — one panel per action (like the paper's Figs. 11 and 13): objects
 //!   already at their targets in grey, released objects waiting for a push outlined at their
 //!   release pose, the acting object highlighted with its finger slabs (places) or the pusher,
-//!   its sweep and the push distance (pushes);
+//!   its sweep and the push distance (pushes); a finger that passes above a lower box is drawn
+//!   lighter and dashed with both heights (`↑4.5 over 4.0`, cm), not as a collision;
 //! * `swept.svg` — the swept area (bounding rectangle from C's origin of every footprint so far,
 //!   releases included) after each step, as a step plot;
 //! * `view.html` — the plan played in 3-D (arms, hands, objects, container), a self-contained

@@ -208,7 +208,7 @@ pub(super) fn storyboard_svg(inst: &Instance, plan: &Plan, p: &Placement, action
                 grasp_axis,
                 ..
             } => {
-                draw_place(&mut svg, inst, p, &v, *object, mode, *grasp_axis, &mut labels);
+                draw_place(&mut svg, inst, p, &v, before, *object, mode, *grasp_axis, &mut labels);
             }
             Action::Push {
                 objects,
@@ -247,7 +247,8 @@ fn legend(svg: &mut Svg, left: f64) {
     let ly = 66.0;
     let acting_fill = tint("#f28e2b", 0.25);
     let released_fill = tint("#f28e2b", 0.8);
-    let items: [(Paint, &str); 5] = [
+    let above = tint(FINGER_FILL, 0.6);
+    let items: [(Paint, &str); 6] = [
         (Paint::fill(DONE_FILL, "#777777", 1.0), "at target"),
         (
             Paint::fill(&released_fill, "#f28e2b", 1.5).dashed("4,3"),
@@ -255,6 +256,10 @@ fn legend(svg: &mut Svg, left: f64) {
         ),
         (Paint::fill(&acting_fill, ACT_STROKE, 2.5), "acting object"),
         (Paint::fill(FINGER_FILL, "none", 0.0), "fingers / pusher"),
+        (
+            Paint::fill(&above, FINGER_FILL, 1.0).dashed("3,2"),
+            "fingers above a lower box (heights in cm)",
+        ),
         (Paint::line("#aaaaaa", 1.0).dashed("2,2"), "targets"),
     ];
     for (paint, label) in items {
@@ -265,13 +270,16 @@ fn legend(svg: &mut Svg, left: f64) {
 }
 
 /// A place: the acting object at its release (its target outlined when it is released short of
-/// it) and the open fingers.
+/// it) and the open fingers. A finger over a box already in the container passes above it (the
+/// planner's finger slab allows no less): it is drawn lighter and dashed, with its fingertips'
+/// height and the box's, so that a top view does not show it as a collision.
 #[allow(clippy::too_many_arguments)]
 fn draw_place(
     svg: &mut Svg,
     inst: &Instance,
     p: &Placement,
     v: &View,
+    before: &[Pos],
     i: usize,
     mode: &PlaceMode,
     grasp_axis: Axis2,
@@ -298,7 +306,34 @@ fn draw_place(
             g.finger_thickness,
             g.finger_width,
         );
-        v.draw(svg, &f, Paint::fill(FINGER_FILL, "none", 0.0));
+        let below: Vec<usize> = (0..inst.n())
+            .filter(|&j| j != i)
+            .filter(|&j| match &before[j] {
+                Pos::Done => p.targets[j].rect.overlaps(&f),
+                Pos::Released(r) => r.overlaps(&f),
+                Pos::Table => false,
+            })
+            .collect();
+        if below.is_empty() {
+            v.draw(svg, &f, Paint::fill(FINGER_FILL, "none", 0.0));
+            continue;
+        }
+        let above = tint(FINGER_FILL, 0.6);
+        v.draw(svg, &f, Paint::fill(&above, FINGER_FILL, 1.0).dashed("3,2"));
+        let tallest = below.iter().map(|&j| p.targets[j].height).fold(0.0, f64::max);
+        let tip = p.targets[i].height - g.grasp_depth;
+        let text = format!("\u{2191}{} over {}", cm(tip), cm(tallest));
+        let (x, y, _, h) = v.rect(&f);
+        let size = 10.0;
+        let tx = x.clamp(4.0, f64::MAX);
+        svg.rect(
+            tx - 1.0,
+            y + h + 1.0,
+            text_width(&text, size) + 2.0,
+            size + 2.0,
+            Paint::fill("#ffffff", "none", 0.0),
+        );
+        svg.text(tx, y + h + size, size, Anchor::Start, false, TEXT, &text);
     }
 }
 
