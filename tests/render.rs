@@ -132,6 +132,16 @@ fn paper_plans_render_to_well_formed_svg_showing_every_object_and_action() {
             assert!(story.contains(&format!(">step {k}: ")), "{path}: no panel for step {k}");
         }
         assert!(!story.contains(&format!(">step {}: ", plan.actions.len() + 1)));
+        // Fingers that pass above a lower neighbour carry both heights (exp2's steps 7 and 8
+        // release next to a 4 cm box with the fingertips at 4.5 cm).
+        for mark in story.match_indices('\u{2191}') {
+            let text: String = story[mark.0..].chars().take_while(|c| *c != '<').collect();
+            let h: Vec<f64> = text[3..].split(" over ").map(|v| v.trim().parse().unwrap()).collect();
+            assert!(h[0] >= h[1], "{path}: fingertips above the box they pass: {text}");
+        }
+        if path.contains("exp2") {
+            assert_eq!(story.matches("\u{2191}4.5 over 4.0").count(), 2, "{path}");
+        }
         let placement = std::fs::read_to_string(&files[0]).unwrap();
         let area = plan.placement.occupied_area * 1e4;
         assert!(
