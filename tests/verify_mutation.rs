@@ -220,6 +220,9 @@ fn mutations(plan: &Value) -> Vec<Mutation> {
     v.push(m("the robot's velocity limits raised", |p| {
         p["robot"]["velocity_limits"] = json!(vec![10.0; 6]);
     }));
+    v.push(m("the robot's execution time understated", |p| {
+        add(&mut p["robot"]["execution_time_s"], -10.0)
+    }));
     v
 }
 

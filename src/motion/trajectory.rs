@@ -59,6 +59,10 @@ pub struct RobotInfo {
     pub timing: TrajectoryOptions,
     /// Joint velocity limits used (rad/s, after scaling), per arm joint (left order = right order).
     pub velocity_limits: Vec<f64>,
+    /// How long the robot takes to run the plan (s): the end of the last trajectory, both arms
+    /// in turn. Absent in plans written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub execution_time_s: Option<f64>,
 }
 
 /// One timed point.

@@ -125,6 +125,15 @@ pub(super) fn robot_records(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>,
         out.push((None, format!("velocity_scale {scale} must be in (0, 1]")));
         return out;
     }
+    if let Some(claimed) = robot.execution_time_s {
+        let end = plan.robot_time_s().unwrap_or(0.0);
+        if !(claimed - end).abs().le(&1e-9) {
+            out.push((
+                None,
+                format!("execution time recorded as {claimed} s, the trajectories end at {end} s"),
+            ));
+        }
+    }
     let model = &inst.robot.model;
     for arm in [Arm::Left, Arm::Right] {
         for (j, spec) in model.arms[arm.index()].iter().enumerate() {

@@ -16,6 +16,7 @@ pub fn robot_info(inst: &Instance, opts: &TrajectoryOptions) -> RobotInfo {
         joint_names_right: m.joint_names(Arm::Right),
         timing: *opts,
         velocity_limits: m.arms[0].iter().map(|j| j.velocity * opts.velocity_scale).collect(),
+        execution_time_s: None,
     }
 }
 
@@ -354,5 +355,7 @@ pub fn plan_trajectories(
             }
         }
     }
-    (robot_info(inst, opts), out)
+    let mut info = robot_info(inst, opts);
+    info.execution_time_s = out.iter().map(|r| r.t_end).reduce(f64::max);
+    (info, out)
 }
