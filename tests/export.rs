@@ -226,7 +226,7 @@ fn ros2_goal_for_both_arms_with_gripper_commands_parses_as_the_message_definitio
     let plan = plan();
     let dir = tempfile::tempdir().unwrap();
     let files = export(&plan, ExportFormat::Ros2Goal, dir.path()).unwrap();
-    assert_eq!(files.len(), 2);
+    assert_eq!(files.len(), 3);
     let goal: FollowJointTrajectoryGoal =
         serde_norway::from_str(&std::fs::read_to_string(dir.path().join("both_arms_goal.yaml")).unwrap()).unwrap();
     let t = &goal.trajectory;
@@ -345,4 +345,92 @@ fn speed_scale_keeps_trajectories_and_the_export_below_the_scaled_limits() {
         .unwrap()
         .plan;
     assert!(plan.robot_time_s().unwrap() > base.robot_time_s().unwrap() * 1.5);
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ListPoint {
+    positions: Vec<f64>,
+    velocities: Vec<f64>,
+    time_from_start: Duration,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ListTrajectory {
+    joint_names: Vec<String>,
+    points: Vec<ListPoint>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ListGripper {
+    arm: String,
+    command: GripperCommand,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ListStep {
+    trajectory: Option<ListTrajectory>,
+    gripper: Option<ListGripper>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ActionList {
+    steps: Vec<ListStep>,
+}
+
+/// The blocking action list holds the whole goal, cut where the gripper acts, with every
+/// gripper command at its place: run in order, it reproduces the goal point for point, and each
+/// trajectory piece starts and ends at rest (so waiting for a gripper is safe).
+#[test]
+fn the_action_list_interleaves_the_goal_and_the_gripper_commands() {
+    let plan = plan();
+    let dir = tempfile::tempdir().unwrap();
+    export(&plan, ExportFormat::Ros2Goal, dir.path()).unwrap();
+    let read = |f: &str| std::fs::read_to_string(dir.path().join(f)).unwrap();
+    let goal: FollowJointTrajectoryGoal = serde_norway::from_str(&read("both_arms_goal.yaml")).unwrap();
+    let grip: GripperSteps = serde_norway::from_str(&read("gripper_commands.yaml")).unwrap();
+    let list: ActionList = serde_norway::from_str(&read("action_list.yaml")).unwrap();
+    let (mut offset, mut replay, mut commands) = (0.0, Vec::<(f64, Vec<f64>)>::new(), Vec::new());
+    for step in &list.steps {
+        match (&step.trajectory, &step.gripper) {
+            (Some(t), None) => {
+                assert_eq!(t.joint_names, goal.trajectory.joint_names);
+                assert!(t.points.len() >= 2);
+                assert_eq!(t.points[0].time_from_start.secs(), 0.0);
+                for end in [&t.points[0], t.points.last().unwrap()] {
+                    assert!(
+                        end.velocities.iter().all(|v| v.abs() < 1e-9),
+                        "a piece starts and ends at rest"
+                    );
+                }
+                for p in &t.points {
+                    let at = offset + p.time_from_start.secs();
+                    if replay.last().is_none_or(|(t0, _)| at > t0 + 1e-6) {
+                        replay.push((at, p.positions.clone()));
+                    }
+                }
+                offset += t.points.last().unwrap().time_from_start.secs();
+            }
+            (None, Some(g)) => commands.push((offset, g.arm.clone(), g.command.position)),
+            other => panic!("a step is a trajectory or a gripper command: {other:?}"),
+        }
+    }
+    let want = &goal.trajectory.points;
+    assert_eq!(replay.len(), want.len(), "every goal point once");
+    for ((t, q), p) in replay.iter().zip(want) {
+        assert!(
+            (t - p.time_from_start.secs()).abs() < 1e-6,
+            "{t} vs {}",
+            p.time_from_start.secs()
+        );
+        assert!(q.iter().zip(&p.positions).all(|(a, b)| (a - b).abs() < 1e-9));
+    }
+    assert_eq!(commands.len(), grip.steps.len());
+    for ((t, arm, pos), g) in commands.iter().zip(&grip.steps) {
+        assert!((t - g.time_from_start.secs()).abs() < 1e-6 && *arm == g.arm && *pos == g.command.position);
+    }
 }

@@ -25,8 +25,8 @@ pub enum ExportFormat {
     /// CSV: `t` then one column per joint (`<arm>_arm.csv`).
     Csv,
     /// ROS 2: one `control_msgs/action/FollowJointTrajectory` goal for both arms
-    /// (`both_arms_goal.yaml`) and the gripper commands on its clock
-    /// (`gripper_commands.yaml`); see [`super::ros2`].
+    /// (`both_arms_goal.yaml`), the gripper commands on its clock (`gripper_commands.yaml`),
+    /// and both as one blocking action list (`action_list.yaml`); see [`super::ros2`].
     Ros2Goal,
 }
 
@@ -290,6 +290,7 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
         if let Some(e) = super::ros2::ros2_export(plan) {
             write("both_arms_goal.yaml", super::ros2::goal_yaml(&e), &mut written)?;
             write("gripper_commands.yaml", super::ros2::gripper_yaml(&e), &mut written)?;
+            write("action_list.yaml", super::ros2::action_list_yaml(&e), &mut written)?;
         }
         return Ok(written);
     }

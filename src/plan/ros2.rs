@@ -240,3 +240,66 @@ pub fn gripper_yaml(e: &Ros2Export) -> String {
     }
     s
 }
+
+/// The plan as a blocking action list: trajectory goals and gripper commands in the order an
+/// executor runs them, each to completion before the next. The goal is cut at every gripper
+/// command's time; the arms are at rest there (commands fall on key poses, where every leg
+/// ends at rest), so waiting for the gripper costs no jerk. Each piece's `time_from_start`
+/// starts at 0.
+pub fn action_list_yaml(e: &Ros2Export) -> String {
+    let mut cuts: Vec<f64> = e.gripper.iter().map(|g| g.time_from_start.as_secs()).collect();
+    cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# Run in order, each step to completion: `trajectory` is a control_msgs/action/\n\
+         # FollowJointTrajectory goal's trajectory (the rest of the goal as in both_arms_goal.yaml),\n\
+         # `gripper` a control_msgs/action/GripperCommand goal for that arm's gripper."
+    );
+    let _ = writeln!(s, "steps:{}", if e.points.is_empty() { " []" } else { "" });
+    let mut from = 0.0;
+    let trajectory = |s: &mut String, a: f64, b: f64| {
+        let pts: Vec<&Point> = e
+            .points
+            .iter()
+            .filter(|p| {
+                let t = p.time_from_start.as_secs();
+                t >= a - 1e-9 && t <= b + 1e-9
+            })
+            .collect();
+        if pts.len() < 2 {
+            return;
+        }
+        let names: Vec<String> = e.joint_names.iter().map(|n| format!("\"{n}\"")).collect();
+        let _ = writeln!(s, "  - trajectory:");
+        let _ = writeln!(s, "      joint_names: [{}]", names.join(", "));
+        let _ = writeln!(s, "      points:");
+        let t0 = pts[0].time_from_start.as_secs();
+        for p in pts {
+            let _ = writeln!(s, "        - positions: {}", list(&p.positions));
+            let _ = writeln!(s, "          velocities: {}", list(&p.velocities));
+            let rel = Duration::from_secs(p.time_from_start.as_secs() - t0);
+            let _ = writeln!(s, "          time_from_start: {}", duration(rel));
+        }
+    };
+    for &cut in &cuts {
+        trajectory(&mut s, from, cut);
+        for g in e
+            .gripper
+            .iter()
+            .filter(|g| (g.time_from_start.as_secs() - cut).abs() <= 1e-9)
+        {
+            let _ = writeln!(
+                s,
+                "  - gripper: {{arm: {}, command: {{position: {}, max_effort: {}}}}}",
+                g.arm,
+                num(g.command.position),
+                num(g.command.max_effort)
+            );
+        }
+        from = cut;
+    }
+    let end = e.points.last().map(|p| p.time_from_start.as_secs()).unwrap_or(0.0);
+    trajectory(&mut s, from, end);
+    s
+}
