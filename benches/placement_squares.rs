@@ -48,8 +48,8 @@ fn main() {
             _ => panic!("--masters: search or highs"),
         })
         .collect();
-    println!("| N | master | A038666 | area found | area proven | contact proven | area stage (s, median) | contact stage (s, median) | CPU s, both stages (median) | boxes (searched) |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("| N | master | A038666 | area found | area proven | contact proven | area stage (s, median) | contact stage (s, median) | CPU s, both stages (median) | boxes (searched) | nodes |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for n in from..=to.min(22) {
         let want = A038666[n as usize - 1];
         // The tight container: the optimal box, found by the unconstrained run.
@@ -78,7 +78,7 @@ fn main() {
             let (r, rep) = last.expect("repeat ≥ 1");
             let units = (r.placement.occupied_area() / 4e-6).round() as u32;
             println!(
-                "| {n} | {master:?} | {want} | {units}{} | {} | {} | {:.3} | {:.3} | {:.3} | {} ({}) |",
+                "| {n} | {master:?} | {want} | {units}{} | {} | {} | {:.3} | {:.3} | {:.3} | {} ({}) | {} |",
                 if units == want { "" } else { " (differs)" },
                 if rep.area_optimal { "yes" } else { "no" },
                 if r.status == PlacementStatus::Optimal {
@@ -90,7 +90,8 @@ fn main() {
                 median(&contact_s),
                 median(&cpu),
                 rep.boxes,
-                rep.boxes_searched
+                rep.boxes_searched,
+                r.nodes
             );
         }
     }
