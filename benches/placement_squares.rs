@@ -9,6 +9,9 @@
 //! cargo bench --bench placement_squares -- [--from 1] [--to 22] [--time-limit 60] [--repeat 3] [--tight]
 //! # the area stage's two masters side by side (combinatorial x-phase, HiGHS MILP)
 //! cargo bench --bench placement_squares -- --to 12 --masters search,highs
+//! # the packing search alone on each enclosing box W × D (W ≥ D) of area below the optimum
+//! # and at it, that the bounds do not refute (integer sizes): outcome, nodes, seconds
+//! cargo bench --bench placement_squares -- --boxes 18 --time-limit 300
 //! ```
 
 use pushpack::control::TimeLimit;
@@ -33,6 +36,10 @@ fn main() {
     let limit: f64 = arg(&args, "--time-limit", 60.0);
     let repeat: usize = arg(&args, "--repeat", 3);
     let tight = args.iter().any(|a| a == "--tight");
+    let boxes: u32 = arg(&args, "--boxes", 0);
+    if boxes > 0 {
+        return decide_boxes(boxes, limit);
+    }
     let masters: Vec<AreaMaster> = arg(&args, "--masters", "search".to_string())
         .split(',')
         .map(|m| match m {
@@ -41,8 +48,8 @@ fn main() {
             _ => panic!("--masters: search or highs"),
         })
         .collect();
-    println!("| N | master | A038666 | area found | area proven | contact proven | area stage (s, median) | contact stage (s, median) | boxes (searched) |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| N | master | A038666 | area found | area proven | contact proven | area stage (s, median) | contact stage (s, median) | CPU s, both stages (median) | boxes (searched) | nodes |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for n in from..=to.min(22) {
         let want = A038666[n as usize - 1];
         // The tight container: the optimal box, found by the unconstrained run.
@@ -57,9 +64,12 @@ fn main() {
         for &master in &masters {
             let mut area_s = Vec::new();
             let mut contact_s = Vec::new();
+            let mut cpu = Vec::new();
             let mut last = None;
             for _ in 0..repeat {
+                let c0 = cpu_s();
                 let (r, rep) = run(&inst, limit, master);
+                cpu.push(cpu_s() - c0);
                 assert!(r.placement.violations(&inst).is_empty(), "N={n}: invalid placement");
                 area_s.push(rep.area_stage_s);
                 contact_s.push(rep.contact_stage_s);
@@ -68,7 +78,7 @@ fn main() {
             let (r, rep) = last.expect("repeat ≥ 1");
             let units = (r.placement.occupied_area() / 4e-6).round() as u32;
             println!(
-                "| {n} | {master:?} | {want} | {units}{} | {} | {} | {:.3} | {:.3} | {} ({}) |",
+                "| {n} | {master:?} | {want} | {units}{} | {} | {} | {:.3} | {:.3} | {:.3} | {} ({}) | {} |",
                 if units == want { "" } else { " (differs)" },
                 if rep.area_optimal { "yes" } else { "no" },
                 if r.status == PlacementStatus::Optimal {
@@ -78,8 +88,10 @@ fn main() {
                 },
                 median(&area_s),
                 median(&contact_s),
+                median(&cpu),
                 rep.boxes,
-                rep.boxes_searched
+                rep.boxes_searched,
+                r.nodes
             );
         }
     }
@@ -95,4 +107,68 @@ fn run(inst: &Instance, limit: f64, area_master: AreaMaster) -> (PlacementResult
         ..Default::default()
     };
     milp::solve_report(inst, &none, &s, &TimeLimit::new(limit)).expect("squares always fit the loose container")
+}
+
+/// `--boxes N`: every box `W × D`, `W ≥ D ≥ N`, with `sum ≤ W·D ≤ A038666(N)`, decided by the
+/// packing search alone (the area stage decides these, in area order, until one packs).
+fn decide_boxes(n: u32, limit: f64) {
+    use pushpack::placement::opp::{decide, refuted_by_bounds, Item};
+    use std::time::Instant;
+    let items: Vec<Item> = (1..=n)
+        .rev()
+        .map(|s| Item {
+            opts: vec![[s as f64, s as f64]],
+            class: s as usize,
+        })
+        .collect();
+    let sum: u32 = (1..=n).map(|s| s * s).sum();
+    let best = A038666[n as usize - 1];
+    let mut list: Vec<(u32, u32)> = Vec::new();
+    for w in n..=best / n {
+        for d in n..=w {
+            if w * d >= sum && w * d <= best {
+                list.push((w, d));
+            }
+        }
+    }
+    list.sort_by_key(|&(w, d)| (w * d, w));
+    println!("| W | D | area | outcome | nodes | s | CPU s |");
+    println!("|---|---|---|---|---|---|---|");
+    for (w, d) in list {
+        let (wf, df) = (w as f64, d as f64);
+        if refuted_by_bounds(&items, wf, df) {
+            continue;
+        }
+        let t0 = Instant::now();
+        let c0 = cpu_s();
+        let stop = || t0.elapsed().as_secs_f64() > limit;
+        let (r, nodes) = decide(&items, wf, df, &stop);
+        let kind = match r {
+            pushpack::placement::opp::Outcome::Packed(_) => "packed",
+            pushpack::placement::opp::Outcome::Infeasible => "infeasible",
+            pushpack::placement::opp::Outcome::Stopped => "stopped",
+        };
+        println!(
+            "| {w} | {d} | {} | {kind} | {} | {:.3} | {:.3} |",
+            w * d,
+            nodes,
+            t0.elapsed().as_secs_f64(),
+            cpu_s() - c0
+        );
+    }
+}
+
+/// CPU seconds (user and system) this process has used: on a machine shared with other work,
+/// steadier than the wall clock (the solver runs on one thread).
+fn cpu_s() -> f64 {
+    #[cfg(unix)]
+    {
+        // SAFETY: getrusage only writes the struct it is given.
+        let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+        if unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) } == 0 {
+            let tv = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+            return tv(u.ru_utime) + tv(u.ru_stime);
+        }
+    }
+    f64::NAN
 }

@@ -146,9 +146,7 @@ pub type Decider<'a> = dyn Fn(&[Item], f64, f64, &dyn Fn() -> bool) -> crate::er
 
 /// The exact packing search of [`opp`] as a [`Decider`].
 pub fn by_search(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> crate::error::Result<(Outcome, u64)> {
-    let mut s = Search::new(items, w, d, stop);
-    let r = s.run();
-    Ok((r, s.nodes))
+    Ok(opp::decide(items, w, d, stop))
 }
 
 /// Decide `w × d` with the x-phase along the longer side: a packing transposes with its box, and

@@ -154,6 +154,118 @@ pub fn refuted_by_bounds(items: &[Item], w: f64, d: f64) -> bool {
     false
 }
 
+/// Decide the box with [`Search`], after setting aside the unit items when that is safe: items
+/// whose only fitting footprint is a `g × g` square, where `g` divides every footprint extent
+/// and the box's sides. Every packing the search finds has its edges on the `g`-lattice (left
+/// edges are 0 or right edges, bottoms 0 or tops, all sums of extents), so its free space is a
+/// union of `g`-cells; when the other items, at their largest footprints, leave at least the
+/// units' area free, each unit goes into a free cell, and the others packing is equivalent to all
+/// packing. Returns the outcome and the nodes visited.
+pub fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outcome, u64) {
+    let units = unit_items(items, w, d);
+    if units.is_empty() {
+        let mut s = Search::new(items, w, d, stop);
+        let r = s.run();
+        return (r, s.nodes);
+    }
+    if refuted_by_bounds(items, w, d) {
+        return (Outcome::Infeasible, 0);
+    }
+    let rest: Vec<usize> = (0..items.len()).filter(|i| !units.contains(i)).collect();
+    let sub: Vec<Item> = rest.iter().map(|&i| items[i].clone()).collect();
+    let mut s = Search::new(&sub, w, d, stop);
+    let r = s.run();
+    let r = match r {
+        Outcome::Packed(p) => {
+            let mut pos: Vec<Option<Pos>> = vec![None; items.len()];
+            let mut rects: Vec<[f64; 4]> = Vec::new();
+            for (k, &i) in rest.iter().enumerate() {
+                let f = items[i].opts[p[k].opt];
+                pos[i] = Some(p[k]);
+                rects.push([p[k].x, p[k].y, p[k].x + f[0], p[k].y + f[1]]);
+            }
+            for &u in &units {
+                let k = items[u]
+                    .opts
+                    .iter()
+                    .position(|f| f[0] <= w + tol(w, d) && f[1] <= d + tol(w, d))
+                    .expect("a unit fits");
+                let g = items[u].opts[k][0];
+                let cell = free_cell(&rects, g, w, d).expect("the units' area is free, on the lattice");
+                rects.push([cell.0, cell.1, cell.0 + g, cell.1 + g]);
+                pos[u] = Some(Pos {
+                    opt: k,
+                    x: cell.0,
+                    y: cell.1,
+                });
+            }
+            Outcome::Packed(pos.into_iter().map(|p| p.expect("every item placed")).collect())
+        }
+        o => o,
+    };
+    (r, s.nodes)
+}
+
+/// The items [`decide`] may set aside (empty: none).
+fn unit_items(items: &[Item], w: f64, d: f64) -> Vec<usize> {
+    let t = tol(w, d);
+    let fits: Vec<Vec<[f64; 2]>> = items.iter().map(|it| fitting(it, w, d).collect()).collect();
+    if items.len() < 2 || fits.iter().any(|f| f.is_empty()) {
+        return Vec::new();
+    }
+    // The smallest extent of all; units are the items whose only fitting footprint is g × g.
+    let g = fits
+        .iter()
+        .flatten()
+        .flat_map(|f| [f[0], f[1]])
+        .fold(f64::INFINITY, f64::min);
+    if g <= t {
+        return Vec::new();
+    }
+    let on_lattice = |v: f64| ((v / g) - (v / g).round()).abs() <= 1e-7 * (1.0 + v / g);
+    let all_extents = items.iter().flat_map(|it| it.opts.iter()).flat_map(|f| [f[0], f[1]]);
+    if !on_lattice(w) || !on_lattice(d) || !all_extents.clone().all(on_lattice) {
+        return Vec::new();
+    }
+    let units: Vec<usize> = (0..items.len())
+        .filter(|&i| fits[i].iter().all(|f| (f[0] - g).abs() <= t && (f[1] - g).abs() <= t))
+        .collect();
+    if units.is_empty() || units.len() == items.len() {
+        return Vec::new();
+    }
+    let others: f64 = (0..items.len())
+        .filter(|i| !units.contains(i))
+        .map(|i| fits[i].iter().map(|f| f[0] * f[1]).fold(0.0, f64::max))
+        .sum();
+    if w * d - others < units.len() as f64 * g * g - t * (w + d) {
+        return Vec::new();
+    }
+    units
+}
+
+/// A free `g × g` cell among `rects` (`[x0, y0, x1, y1]`, all on the `g`-lattice) in `w × d`:
+/// slid left and then down, a free lattice cell stops with its left edge at 0 or a right edge
+/// and its bottom at 0 or a top, so those are the only places to look.
+fn free_cell(rects: &[[f64; 4]], g: f64, w: f64, d: f64) -> Option<(f64, f64)> {
+    let t = tol(w, d);
+    let xs = std::iter::once(0.0).chain(rects.iter().map(|r| r[2]));
+    let ys: Vec<f64> = std::iter::once(0.0).chain(rects.iter().map(|r| r[3])).collect();
+    for x in xs {
+        for &y in &ys {
+            if x + g > w + t || y + g > d + t {
+                continue;
+            }
+            let clear = rects
+                .iter()
+                .all(|r| r[2].min(x + g) - r[0].max(x) <= t || r[3].min(y + g) - r[1].max(y) <= t);
+            if clear {
+                return Some((x, y));
+            }
+        }
+    }
+    None
+}
+
 /// What enumeration hands each packing to; `true` stops it.
 pub type Visitor<'a> = dyn FnMut(&[Pos]) -> bool + 'a;
 
@@ -182,7 +294,7 @@ pub struct Search<'a> {
     y0: Vec<f64>,
     /// x-phase states (position, placed set, free-depth profile ahead) proven to have no
     /// complete x-assignment, with the least waste at which that was shown.
-    dead: HashMap<StateKey, f64>,
+    dead: HashMap<StateKey, (f64, f64)>,
     /// Complete x-assignments handed to the y-phase so far.
     yleaves: u64,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
@@ -203,6 +315,14 @@ pub struct Search<'a> {
     ub_x: f64,
     /// Branches cut by the contact bound.
     cpruned: u64,
+    /// Per item, for the current x-assignment (built by `ycheck`): the items covering its left
+    /// edge (itself included), the other items overlapping it in x, and the items ending at its
+    /// left edge.
+    ycover: Vec<Vec<usize>>,
+    yover: Vec<Vec<usize>>,
+    yleft: Vec<Vec<usize>>,
+    /// The items off the left wall, grouped by left edge (current x-assignment).
+    ygroups: Vec<Vec<usize>>,
 }
 
 impl<'a> Search<'a> {
@@ -275,6 +395,10 @@ impl<'a> Search<'a> {
             ydef: 0.0,
             ub_x: 0.0,
             cpruned: 0,
+            ycover: vec![Vec::new(); n],
+            yover: vec![Vec::new(); n],
+            yleft: vec![Vec::new(); n],
+            ygroups: Vec::new(),
         }
     }
 
@@ -432,24 +556,32 @@ impl<'a> Search<'a> {
         // States reached again by another order of the objects behind `t`: the x-phase ahead
         // depends only on which objects are placed, where the placed ones end, and how deep they
         // are — and on the waste so far, which only makes pruning easier. A state whose subtree
-        // failed without reaching the y-phase fails again at no less waste.
+        // failed without reaching the y-phase fails again at no less waste. When enumerating
+        // under a contact bound, the contact cuts ahead depend on the state, on the right sides
+        // ending at `t` (put in the key) and on the contact bound of the placed part; the bound
+        // to beat only rises, so a subtree cut at some contact bound is cut again at no more.
         let key = (min_idx == 0 && self.dead_enabled).then(|| self.state_key(t));
+        let ub = if self.cbound.is_some() { self.contact_ub() } else { 0.0 };
         if let Some(k) = &key {
-            if self.dead.get(k).is_some_and(|&w0| w0 <= waste + tol) {
+            if self
+                .dead
+                .get(k)
+                .is_some_and(|&(w0, u0)| w0 <= waste + tol && ub <= u0 + 1e-9)
+            {
                 return false;
             }
         }
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
         if let Some(k) = key {
-            if !found
-                && !self.stopped
-                && self.yleaves == leaves_before
-                && self.cpruned == cut_before
-                && self.dead.len() < DEAD_MAX
-            {
-                let e = self.dead.entry(k).or_insert(f64::INFINITY);
-                *e = e.min(waste);
+            if !found && !self.stopped && self.yleaves == leaves_before && self.dead.len() < DEAD_MAX {
+                let u = if self.cpruned == cut_before { f64::INFINITY } else { ub };
+                let e = self.dead.entry(k).or_insert((waste, u));
+                // Keep the record that covers more (the waste is the same for one key: the
+                // area behind `t` is placed or wasted, and the placed part ahead is in the key).
+                if waste <= e.0 + tol && u >= e.1 {
+                    *e = (waste, u);
+                }
             }
         }
         found
@@ -471,6 +603,14 @@ impl<'a> Search<'a> {
             }
         }
         active.sort_unstable();
+        if self.cbound.is_some() {
+            // Contact bounds at `t` depend on the right sides ending there.
+            let ends: f64 = (0..n)
+                .filter(|&j| self.placed[j] && (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t)
+                .map(|j| self.dims(j)[1])
+                .sum();
+            active.push((i64::MIN, q(ends)));
+        }
         (mask, q(t), active)
     }
 
@@ -494,15 +634,21 @@ impl<'a> Search<'a> {
                 if f[0] > self.w - t + self.t || f[1] > cap + self.t {
                     continue;
                 }
-                // Its left side touches only objects ending at `t` (all placed) or the wall.
+                // Its left side touches only objects ending at `t` (all placed) or the wall; the
+                // objects starting at `t` share the right sides of those ending there, so what
+                // the ones placed at `t` before it took is not left for it.
                 let left = if t <= self.t {
                     f[1]
                 } else {
-                    let h: f64 = (0..n)
-                        .filter(|&j| self.placed[j] && (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t)
-                        .map(|j| self.dims(j)[1])
-                        .sum();
-                    h.min(f[1])
+                    let (mut ends, mut starts) = (0.0, 0.0);
+                    for j in (0..n).filter(|&j| self.placed[j]) {
+                        if (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t {
+                            ends += self.dims(j)[1];
+                        } else if (self.x0[j] - t).abs() <= self.t {
+                            starts += self.dims(j)[1];
+                        }
+                    }
+                    f64::max(ends - starts, 0.0).min(f[1])
                 };
                 self.placed[i] = true;
                 self.opt[i] = k;
@@ -543,36 +689,38 @@ impl<'a> Search<'a> {
     /// items ending at its left edge: placed ones by their overlap in y, unplaced ones only
     /// above `last_y` (every later item's bottom is at least `last_y`). `None`: some placed
     /// item can no longer be touched, so no completion is BL-stable. Otherwise, the left
-    /// contact now known to be missing beyond what the x-phase counted (`ldef`, which assumed
-    /// every item ending there in full contact).
+    /// contact now known to be missing beyond what the x-phase counted (`ldef`: for the items
+    /// sharing a left edge, the least of their sides and the right sides ending there).
     fn left_contact_lost(&self, done: &[bool], top: &[f64], last_y: f64) -> Option<f64> {
-        let n = self.items.len();
         let mut lost = 0.0;
-        for k in 0..n {
-            if !done[k] || self.x0[k] <= self.t {
-                continue;
-            }
-            let (y0, y1) = (self.y0[k], top[k]);
-            let (mut xb, mut now, mut later) = (0.0, 0.0, 0.0);
-            for j in 0..n {
-                if (self.x0[j] + self.dims(j)[0] - self.x0[k]).abs() > self.t {
+        for group in &self.ygroups {
+            let ends: f64 = self.yleft[group[0]].iter().map(|&j| self.dims(j)[1]).sum();
+            let sides: f64 = group.iter().map(|&k| self.dims(k)[1]).sum();
+            let mut can = 0.0;
+            for &k in group {
+                let side = self.dims(k)[1];
+                if !done[k] {
+                    can += side;
                     continue;
                 }
-                let dj = self.dims(j)[1];
-                xb += dj;
-                if done[j] {
-                    now += (top[j].min(y1) - self.y0[j].max(y0)).max(0.0);
-                } else {
-                    later += dj;
+                let (y0, y1) = (self.y0[k], top[k]);
+                let (mut now, mut later) = (0.0, 0.0);
+                for &j in &self.yleft[k] {
+                    if done[j] {
+                        now += (top[j].min(y1) - self.y0[j].max(y0)).max(0.0);
+                    } else {
+                        later += self.dims(j)[1];
+                    }
                 }
+                let room = (y1 - last_y.max(y0)).max(0.0);
+                let later = later.min(room);
+                if now <= self.t && later <= self.t {
+                    return None;
+                }
+                can += (now + later).min(side);
             }
-            let room = (y1 - last_y.max(y0)).max(0.0);
-            let later = later.min(room);
-            if now <= self.t && later <= self.t {
-                return None;
-            }
-            let side = y1 - y0;
-            lost += (xb.min(side) - (now + later).min(side)).max(0.0);
+            // The x-phase counted min(ends, sides) for the group (`ldef`).
+            lost += (ends.min(sides) - ends.min(can)).max(0.0);
         }
         Some(lost)
     }
@@ -583,6 +731,39 @@ impl<'a> Search<'a> {
         let n = self.items.len();
         let mut done = vec![false; n];
         let mut top = vec![0.0; n];
+        let t = self.t;
+        for k in 0..n {
+            let (a0, a1) = (self.x0[k], self.x0[k] + self.dims(k)[0]);
+            let (mut cover, mut over, mut left) = (Vec::new(), Vec::new(), Vec::new());
+            for j in 0..n {
+                let (b0, b1) = (self.x0[j], self.x0[j] + self.dims(j)[0]);
+                if b0 <= a0 + t && b1 > a0 + t {
+                    cover.push(j);
+                }
+                if j != k && a1.min(b1) - a0.max(b0) > t {
+                    over.push(j);
+                }
+                if (b1 - a0).abs() <= t {
+                    left.push(j);
+                }
+            }
+            self.ycover[k] = cover;
+            self.yover[k] = over;
+            self.yleft[k] = left;
+        }
+        if self.visit.is_some() {
+            self.ygroups.clear();
+            for k in (0..n).filter(|&k| self.x0[k] > t) {
+                match self
+                    .ygroups
+                    .iter_mut()
+                    .find(|g| (self.x0[g[0]] - self.x0[k]).abs() <= t)
+                {
+                    Some(g) => g.push(k),
+                    None => self.ygroups.push(vec![k]),
+                }
+            }
+        }
         self.ub_x = self.contact_ub();
         self.ydef = 0.0;
         self.yphase(&mut done, &mut top, 0.0, 0)
@@ -596,11 +777,6 @@ impl<'a> Search<'a> {
         }
         let n = self.items.len();
         let xr = |s: &Self, i: usize| (s.x0[i], s.x0[i] + s.dims(i)[0]);
-        let overlap = |s: &Self, i: usize, j: usize| {
-            let (a0, a1) = xr(s, i);
-            let (b0, b1) = xr(s, j);
-            a1.min(b1) - a0.max(b0) > s.t
-        };
         if done.iter().all(|&b| b) {
             if let Some(v) = self.visit.as_mut() {
                 let pos: Vec<Pos> = (0..n)
@@ -629,32 +805,32 @@ impl<'a> Search<'a> {
                 }
             }
         }
-        // Each unplaced item sits above every placed item that covers its left edge, under
-        // every other unplaced item covering it: they must stack within d.
+        // Every unplaced item goes at or above `last_y` (items go in the order of their bottom
+        // edges), above the placed items in its columns: in each column, those covering it
+        // stack on max(`last_y`, the highest placed top) within d. The stacked depth changes at
+        // left edges of unplaced items, the placed tops at left edges of placed ones.
+        for k in 0..n {
+            let (mut stack, mut base) = (0.0, last_y);
+            for &j in &self.ycover[k] {
+                if done[j] {
+                    base = f64::max(base, top[j]);
+                } else {
+                    stack += self.dims(j)[1];
+                }
+            }
+            if stack > self.t && base + stack > self.d + self.t {
+                return false;
+            }
+        }
         let mut floor = vec![0.0; n];
         for i in 0..n {
             if done[i] {
                 continue;
             }
-            let x = self.x0[i];
-            let covers = |s: &Self, j: usize| {
-                let (b0, b1) = xr(s, j);
-                b0 <= x + s.t && b1 > x + s.t
-            };
-            let base = (0..n)
-                .filter(|&j| done[j] && covers(self, j))
-                .map(|j| top[j])
-                .fold(0.0, f64::max);
-            let stack: f64 = (0..n)
-                .filter(|&j| !done[j] && covers(self, j))
-                .map(|j| self.dims(j)[1])
-                .sum();
-            if base + stack > self.d + self.t {
-                return false;
-            }
-            floor[i] = (0..n)
-                .filter(|&j| done[j] && overlap(self, i, j))
-                .map(|j| top[j])
+            floor[i] = self.yover[i]
+                .iter()
+                .filter(|&&j| done[j])
+                .map(|&j| top[j])
                 .fold(0.0, f64::max);
             if floor[i] + self.dims(i)[1] > self.d + self.t {
                 return false;
@@ -689,7 +865,9 @@ impl<'a> Search<'a> {
             let bottom = if y <= self.t {
                 wi
             } else {
-                (0..n)
+                self.yover[i]
+                    .iter()
+                    .copied()
                     .filter(|&j| done[j] && (top[j] - y).abs() <= self.t)
                     .map(|j| {
                         let (a0, a1) = xr(self, i);
@@ -737,15 +915,19 @@ mod tests {
             .collect()
     }
 
-    fn valid(items: &[Item], p: &[Pos], w: f64, d: f64) -> bool {
-        let r: Vec<[f64; 4]> = p
-            .iter()
+    /// Each item's rectangle `[x0, y0, x1, y1]`.
+    fn rects(items: &[Item], p: &[Pos]) -> Vec<[f64; 4]> {
+        p.iter()
             .zip(items)
             .map(|(q, it)| {
                 let f = it.opts[q.opt];
                 [q.x, q.y, q.x + f[0], q.y + f[1]]
             })
-            .collect();
+            .collect()
+    }
+
+    fn valid(items: &[Item], p: &[Pos], w: f64, d: f64) -> bool {
+        let r = rects(items, p);
         r.iter()
             .all(|a| a[0] >= -1e-9 && a[1] >= -1e-9 && a[2] <= w + 1e-9 && a[3] <= d + 1e-9)
             && (0..r.len()).all(|i| {
@@ -767,6 +949,147 @@ mod tests {
         // 13 × 16 = 208 < 210: the optimum is 210 (OEIS A038666).
         assert_eq!(Search::new(&it, 13.0, 16.0, &never).run(), Outcome::Infeasible);
         assert_eq!(Search::new(&it, 12.0, 17.0, &never).run(), Outcome::Infeasible);
+    }
+
+    /// A small linear congruential generator (the tests need no statistics, only variety).
+    struct Lcg(u64);
+    impl Lcg {
+        fn below(&mut self, n: u64) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 33) % n
+        }
+    }
+
+    /// 2 to 6 random items of integer sides 1 to 4, some rotatable, a third of them unit squares
+    /// when `units`; identical items share a class and come in index order.
+    fn random_items(rng: &mut Lcg, units: bool) -> Vec<Item> {
+        let n = 2 + rng.below(5) as usize;
+        let mut items: Vec<Item> = Vec::new();
+        for k in 0..n {
+            let (a, b) = if units && rng.below(3) == 0 {
+                (1.0, 1.0)
+            } else {
+                ((1 + rng.below(4)) as f64, (1 + rng.below(4)) as f64)
+            };
+            let opts = if a != b && rng.below(2) == 0 {
+                vec![[a, b], [b, a]]
+            } else {
+                vec![[a, b]]
+            };
+            let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
+            items.push(Item { opts, class });
+        }
+        items.sort_by_key(|it| it.class);
+        items
+    }
+
+    /// Random small instances with unit squares among rectangles (some rotatable), in random
+    /// boxes: setting the units aside never changes the answer of the full search.
+    #[test]
+    fn setting_unit_items_aside_keeps_every_answer() {
+        let mut rng = Lcg(7);
+        let never = || false;
+        let (mut packed, mut refuted, mut with_units) = (0, 0, 0);
+        for case in 0..400 {
+            let items = random_items(&mut rng, true);
+            let (w, d) = ((1 + rng.below(6)) as f64, (1 + rng.below(6)) as f64);
+            let full = Search::new(&items, w, d, &never).run();
+            with_units += !unit_items(&items, w, d).is_empty() as u32;
+            let (r, _) = decide(&items, w, d, &never);
+            match (&full, &r) {
+                (Outcome::Packed(_), Outcome::Packed(p)) => {
+                    assert!(valid(&items, p, w, d), "case {case}: {items:?} in {w} × {d}: {p:?}");
+                    packed += 1;
+                }
+                (Outcome::Infeasible, Outcome::Infeasible) => refuted += 1,
+                _ => panic!("case {case}: {items:?} in {w} × {d}: full {full:?}, with units aside {r:?}"),
+            }
+        }
+        assert!(
+            packed > 50 && refuted > 50 && with_units > 50,
+            "{packed} {refuted} {with_units}"
+        );
+    }
+
+    /// Contact length of a packing in `w × d` placed at the container's corner (far walls not
+    /// counted), from the definition: shared edge lengths plus edges on x = 0 and y = 0; `None`
+    /// when some item touches nothing on its left or below (not BL-stable).
+    fn contact_if_stable(items: &[Item], p: &[Pos]) -> Option<f64> {
+        let r = rects(items, p);
+        let ov = |a0: f64, a1: f64, b0: f64, b1: f64| (a1.min(b1) - a0.max(b0)).max(0.0);
+        let mut total = 0.0;
+        for a in &r {
+            let left: f64 = if a[0] <= 1e-9 {
+                a[3] - a[1]
+            } else {
+                r.iter()
+                    .filter(|b| (b[2] - a[0]).abs() <= 1e-9)
+                    .map(|b| ov(a[1], a[3], b[1], b[3]))
+                    .sum()
+            };
+            let below: f64 = if a[1] <= 1e-9 {
+                a[2] - a[0]
+            } else {
+                r.iter()
+                    .filter(|b| (b[3] - a[1]).abs() <= 1e-9)
+                    .map(|b| ov(a[0], a[2], b[0], b[2]))
+                    .sum()
+            };
+            if left <= 1e-9 || below <= 1e-9 {
+                return None;
+            }
+            total += left + below;
+        }
+        Some(total)
+    }
+
+    /// Every contact cut of the enumeration (left sides shared at one edge, bottoms over
+    /// committed holes, dead states under a contact bound) keeps the best packing: on random
+    /// small instances, the most contact over the BL-stable packings of a box is the same with
+    /// the cuts (bound raised by every find) as without them.
+    #[test]
+    fn contact_cuts_keep_the_best_packing() {
+        let mut rng = Lcg(11);
+        let never = || false;
+        let mut compared = 0;
+        for case in 0..300 {
+            let items = random_items(&mut rng, false);
+            // Boxes near the items' area, where packings exist and have waste to place.
+            let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+            let w = (2 + rng.below(5)) as f64;
+            let d = (area / w).ceil() + rng.below(3) as f64;
+            let mut all = f64::NEG_INFINITY;
+            let mut visit_all = |p: &[Pos]| {
+                if let Some(c) = contact_if_stable(&items, p) {
+                    all = all.max(c);
+                }
+                false
+            };
+            let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_all, None, [false; 2]);
+            assert!(done);
+            let bound = Cell::new(-1.0);
+            let mut best = f64::NEG_INFINITY;
+            let mut visit_cut = |p: &[Pos]| {
+                if let Some(c) = contact_if_stable(&items, p) {
+                    if c > bound.get() + 1e-9 {
+                        bound.set(c);
+                        best = c;
+                    }
+                }
+                false
+            };
+            let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_cut, Some(&bound), [false; 2]);
+            assert!(done);
+            assert!(
+                (all - best).abs() <= 1e-9 || (all.is_infinite() && best.is_infinite()),
+                "case {case}: {items:?} in {w} × {d}: {all} without cuts, {best} with"
+            );
+            compared += all.is_finite() as u32;
+        }
+        assert!(compared > 150, "{compared}");
     }
 
     #[test]
