@@ -4,13 +4,18 @@
 use clap::{Args, Parser, Subcommand};
 use pushpack::error::Error;
 use pushpack::instance::{Instance, MAX_OFFSET_STEPS, MAX_TIME_LIMIT};
-use pushpack::plan::{optimize, optimize_stages, PlacementSolver, Plan, PlanOptions, PlanOutcome, Sequencer};
+use pushpack::plan::{optimize_stages, PlacementSolver, Plan, PlanOptions, Sequencer};
 use pushpack::render::{render, render_placement};
 use pushpack::simulate::SimOptions;
 use pushpack::verify::verify;
 use std::path::{Path, PathBuf};
 
+mod commands;
 mod progress;
+mod summary;
+
+use commands::*;
+use summary::*;
 
 /// Exit code for success.
 pub const EXIT_OK: i32 = 0;
@@ -500,163 +505,6 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
     }
 }
 
-/// `pushpack verify`: the verifier's report (and the physics replay's with `--simulate`).
-fn cmd_verify(cmd: Cmd) -> Result<i32, Error> {
-    let Cmd::Verify {
-        instance,
-        plan,
-        json,
-        packing_only,
-        simulate,
-    } = cmd
-    else {
-        unreachable!("run dispatches only Cmd::Verify here")
-    };
-    let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
-    let mut report = verify(&inst, &p);
-    report.packing_only |= packing_only;
-    let sim = if simulate {
-        Some(pushpack::simulate::simulate(
-            &inst,
-            &p,
-            &SimOptions::from_instance(&inst),
-        )?)
-    } else {
-        None
-    };
-    if json {
-        let v = match &sim {
-            None => serde_json::to_value(&report),
-            Some(s) => serde_json::to_value(serde_json::json!({ "verify": &report, "simulation": s })),
-        };
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v.expect("serialisable")).expect("serialisable")
-        );
-    } else {
-        println!("{report}");
-        if let Some(s) = &sim {
-            print!("{s}");
-        }
-    }
-    let sim_ok = sim.as_ref().is_none_or(|s| s.ok);
-    Ok(if report.is_valid() && sim_ok {
-        EXIT_OK
-    } else {
-        EXIT_FAIL
-    })
-}
-
-/// `pushpack simulate`: one physics replay, or `--sweep` over the settings a push must not
-/// depend on.
-fn cmd_simulate(cmd: Cmd) -> Result<i32, Error> {
-    let Cmd::Simulate {
-        plan,
-        instance,
-        json,
-        dt,
-        push_speed,
-        contact_hz,
-        sweep,
-    } = cmd
-    else {
-        unreachable!("run dispatches only Cmd::Simulate here")
-    };
-    let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
-    for (flag, v) in flags {
-        if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
-            return Err(Error::input(
-                "<command line>",
-                flag,
-                format!("must be a finite number > 0, got {v}"),
-            ));
-        }
-    }
-    let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
-    let d = SimOptions::from_instance(&inst);
-    let opts = SimOptions {
-        dt: dt.unwrap_or(d.dt),
-        push_speed: push_speed.unwrap_or(d.push_speed),
-        contact_hz: contact_hz.unwrap_or(d.contact_hz),
-        ..d
-    };
-    if sweep {
-        let runs = pushpack::simulate::sweep::sweep(&inst, &p, &opts)?;
-        if json {
-            println!("{}", serde_json::to_string_pretty(&runs).expect("serialisable"));
-        } else {
-            print!("{}", pushpack::simulate::sweep::sweep_table(&runs));
-        }
-        return Ok(if runs.iter().all(|r| r.report.ok) {
-            EXIT_OK
-        } else {
-            EXIT_FAIL
-        });
-    }
-    let report = pushpack::simulate::simulate(&inst, &p, &opts)?;
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report).expect("serialisable"));
-    } else {
-        print!("{report}");
-    }
-    Ok(if report.ok { EXIT_OK } else { EXIT_FAIL })
-}
-
-/// `pushpack bench`.
-fn cmd_bench(cmd: Cmd) -> Result<i32, Error> {
-    let Cmd::Bench {
-        instances,
-        planners,
-        time_limit,
-        hard_limit,
-        jobs,
-        out,
-        shard,
-        resume,
-        max_runs,
-    } = cmd
-    else {
-        unreachable!("run dispatches only Cmd::Bench here")
-    };
-    let time_limit = positive_time(Some(time_limit), "--time-limit")?.unwrap_or(time_limit);
-    let hard_limit = match positive_time(hard_limit, "--hard-limit")? {
-        Some(h) => h,
-        None => 2.0 * time_limit + 30.0,
-    };
-    let jobs = match jobs {
-        Some(0) => return Err(Error::input("<command line>", "--jobs", "must be at least 1")),
-        Some(j) => j,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
-    let cfg = pushpack::bench::BenchConfig {
-        instances,
-        planners: pushpack::bench::spec::PlannerSpec::parse_list(&planners, "--planners")?,
-        time_limit,
-        hard_limit,
-        jobs,
-        out,
-        shard: shard.as_deref().map(pushpack::bench::Shard::parse).transpose()?,
-        resume,
-        max_runs,
-        exe: std::env::current_exe().map_err(|e| Error::Io {
-            path: PathBuf::from("<current executable>"),
-            source: e,
-        })?,
-    };
-    let s = pushpack::bench::run_batch(&cfg)?;
-    println!(
-        "bench: {} runs in this shard, {} already done, {} run now ({} failed, {} stopped by a time or node limit), {} left; results in {}",
-        s.total,
-        s.already_done,
-        s.ran,
-        s.failed,
-        s.stopped,
-        s.left,
-        s.results.display()
-    );
-    Ok(EXIT_OK)
-}
-
 /// `pushpack plan`.
 fn cmd_plan(
     instance: PathBuf,
@@ -867,124 +715,6 @@ fn load_plan_instance(plan: &Path, instance: Option<&Path>) -> Result<(Plan, Ins
         eprintln!("warning: the instance file changed since the plan was made (digest differs)");
     }
     Ok((p, inst))
-}
-
-/// The paper's Table II: sequence length with and without direct placing / multi-object pushes.
-fn print_ablations(inst: &Instance, base: &PlanOptions) -> Result<(), Error> {
-    println!(
-        "| motion method | actions | direct | indirect | pushes (multi) | swept area (cm²) | travel (m) | status |"
-    );
-    println!("|---|---|---|---|---|---|---|---|");
-    for (name, nd, nm) in [
-        ("full method", false, false),
-        ("w/o direct placing", true, false),
-        ("w/o pushing multiple objects", false, true),
-        ("w/o both", true, true),
-    ] {
-        let mut o = base.clone();
-        o.no_direct = nd;
-        o.no_multi_push = nm;
-        let out = optimize(inst, &o)?;
-        let m = out.plan.metrics;
-        println!(
-            "| {name} | {} | {} | {} | {} ({}) | {:.1} | {:.3} | {} |",
-            m.seq_len,
-            m.n_place_direct,
-            m.n_place_indirect,
-            m.n_push,
-            m.n_multi_push,
-            m.swept_area * 1e4,
-            m.travel,
-            out.plan.solver.sequence.status
-        );
-    }
-    Ok(())
-}
-
-/// One line per push whose back object first closes a gap alone (`travel_phase` in plan.json):
-/// how far it moves, how much it turns and drifts meanwhile, and the share of the instance's
-/// tolerances that uses (docs/push_stability.md §5.4). A share near 100 % is the push to watch
-/// when the plan is run.
-fn print_travel_phases(plan: &Plan) {
-    for a in &plan.actions {
-        if let Some(t) = &a.travel_phase {
-            println!("{}", travel_line(a.step, t));
-        }
-    }
-}
-
-fn travel_line(step: usize, t: &pushpack::plan::TravelPhase) -> String {
-    format!(
-        "travel     push {step}: {} closes {:.1} mm alone, turning {:.2}° and drifting {:.2} mm ({:.0} % of the tolerances)",
-        t.object,
-        t.gap * 1e3,
-        t.rotation.to_degrees(),
-        t.drift * 1e3,
-        t.usage * 100.0
-    )
-}
-
-fn print_summary(inst: &Instance, o: &PlanOutcome) {
-    let m = &o.plan.metrics;
-    let ps = &o.plan.placement;
-    println!("instance   {} ({} objects)", inst.name, inst.n());
-    println!(
-        "status     {} (placement {}, sequence {})",
-        o.plan.status, ps.status, o.plan.solver.sequence.status
-    );
-    println!(
-        "placement  {}: occupied area {:.1} cm² ({}; lower bound {:.1} cm², gap {:.1} %), contact {:.1} cm",
-        ps.solver,
-        ps.occupied_area * 1e4,
-        ps.status,
-        ps.lower_bound * 1e4,
-        ps.gap * 100.0,
-        ps.contact_length * 100.0
-    );
-    match ps.alternative {
-        0 => {}
-        1 => println!("           alternative 1: the placement stage's result was proven to have no plan"),
-        k => println!(
-            "           alternative {k}: the placement stage's result and the {} alternative{} before this one were proven to have no plan",
-            k - 1,
-            if k == 2 { "" } else { "s" }
-        ),
-    }
-    println!(
-        "sequence   {} actions: {} direct places, {} indirect places, {} pushes ({} multi-object)",
-        m.seq_len, m.n_place_direct, m.n_place_indirect, m.n_push, m.n_multi_push
-    );
-    println!("swept area {:.1} cm²   travel {:.3} m", m.swept_area * 1e4, m.travel);
-    print_travel_phases(&o.plan);
-    let ss = &o.plan.solver.sequence;
-    if let Some(b) = ss.cost_bound.filter(|_| ss.status != pushpack::status::Status::Optimal) {
-        // Stopped early: the per-component bounds the plan is measured against.
-        println!(
-            "bound      ≥ {} actions (gap {:.1} %), ≥ {:.1} cm² swept, ≥ {:.3} m travel",
-            b.len,
-            100.0 * (m.seq_len - b.len.min(m.seq_len)) as f64 / m.seq_len.max(1) as f64,
-            b.area * 1e4,
-            b.travel
-        );
-    }
-    println!(
-        "time       placement {:.3} s ({} nodes), sequence {:.3} s ({} nodes, {} assignments{})",
-        o.plan.solver.placement.time_s,
-        o.plan.solver.placement.nodes,
-        o.plan.solver.sequence.time_s,
-        o.plan.solver.sequence.nodes,
-        o.plan.solver.sequence.assignments.unwrap_or(0),
-        match o.plan.solver.sequence.stopped_by {
-            Some(l) => format!(
-                ", stopped by the {} limit",
-                serde_json::to_value(l)
-                    .ok()
-                    .and_then(|v| v.as_str().map(String::from))
-                    .unwrap_or_default()
-            ),
-            None => String::new(),
-        }
-    );
 }
 
 #[cfg(test)]

@@ -1,0 +1,198 @@
+//! Tests of the packing search against enumeration and known packings.
+
+use super::*;
+use std::cell::Cell;
+
+fn squares(n: usize) -> Vec<Item> {
+    (1..=n)
+        .rev()
+        .map(|s| Item {
+            opts: vec![[s as f64, s as f64]],
+            class: s,
+        })
+        .collect()
+}
+
+/// Each item's rectangle `[x0, y0, x1, y1]`.
+fn rects(items: &[Item], p: &[Pos]) -> Vec<[f64; 4]> {
+    p.iter()
+        .zip(items)
+        .map(|(q, it)| {
+            let f = it.opts[q.opt];
+            [q.x, q.y, q.x + f[0], q.y + f[1]]
+        })
+        .collect()
+}
+
+fn valid(items: &[Item], p: &[Pos], w: f64, d: f64) -> bool {
+    let r = rects(items, p);
+    r.iter()
+        .all(|a| a[0] >= -1e-9 && a[1] >= -1e-9 && a[2] <= w + 1e-9 && a[3] <= d + 1e-9)
+        && (0..r.len()).all(|i| {
+            (i + 1..r.len()).all(|j| {
+                let (a, b) = (r[i], r[j]);
+                a[2].min(b[2]) - a[0].max(b[0]) <= 1e-9 || a[3].min(b[3]) - a[1].max(b[1]) <= 1e-9
+            })
+        })
+}
+
+#[test]
+fn squares_one_to_eight_fit_fourteen_by_fifteen_not_smaller() {
+    let it = squares(8);
+    let never = || false;
+    match Search::new(&it, 14.0, 15.0, &never).run() {
+        Outcome::Packed(p) => assert!(valid(&it, &p, 14.0, 15.0)),
+        o => panic!("expected a packing, got {o:?}"),
+    }
+    // 13 × 16 = 208 < 210: the optimum is 210 (OEIS A038666).
+    assert_eq!(Search::new(&it, 13.0, 16.0, &never).run(), Outcome::Infeasible);
+    assert_eq!(Search::new(&it, 12.0, 17.0, &never).run(), Outcome::Infeasible);
+}
+
+/// A small linear congruential generator (the tests need no statistics, only variety).
+struct Lcg(u64);
+impl Lcg {
+    fn below(&mut self, n: u64) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 33) % n
+    }
+}
+
+/// 2 to 6 random items of integer sides 1 to 4, some rotatable, a third of them unit squares
+/// when `units`; identical items share a class and come in index order.
+fn random_items(rng: &mut Lcg, units: bool) -> Vec<Item> {
+    let n = 2 + rng.below(5) as usize;
+    let mut items: Vec<Item> = Vec::new();
+    for k in 0..n {
+        let (a, b) = if units && rng.below(3) == 0 {
+            (1.0, 1.0)
+        } else {
+            ((1 + rng.below(4)) as f64, (1 + rng.below(4)) as f64)
+        };
+        let opts = if a != b && rng.below(2) == 0 {
+            vec![[a, b], [b, a]]
+        } else {
+            vec![[a, b]]
+        };
+        let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
+        items.push(Item { opts, class });
+    }
+    items.sort_by_key(|it| it.class);
+    items
+}
+
+/// Random small instances with unit squares among rectangles (some rotatable), in random
+/// boxes: setting the units aside never changes the answer of the full search.
+#[test]
+fn setting_unit_items_aside_keeps_every_answer() {
+    let mut rng = Lcg(7);
+    let never = || false;
+    let (mut packed, mut refuted, mut with_units) = (0, 0, 0);
+    for case in 0..400 {
+        let items = random_items(&mut rng, true);
+        let (w, d) = ((1 + rng.below(6)) as f64, (1 + rng.below(6)) as f64);
+        let full = Search::new(&items, w, d, &never).run();
+        with_units += !unit_items(&items, w, d).is_empty() as u32;
+        let (r, _) = decide(&items, w, d, &never);
+        match (&full, &r) {
+            (Outcome::Packed(_), Outcome::Packed(p)) => {
+                assert!(valid(&items, p, w, d), "case {case}: {items:?} in {w} × {d}: {p:?}");
+                packed += 1;
+            }
+            (Outcome::Infeasible, Outcome::Infeasible) => refuted += 1,
+            _ => panic!("case {case}: {items:?} in {w} × {d}: full {full:?}, with units aside {r:?}"),
+        }
+    }
+    assert!(
+        packed > 50 && refuted > 50 && with_units > 50,
+        "{packed} {refuted} {with_units}"
+    );
+}
+
+/// Contact length of a packing in `w × d` placed at the container's corner (far walls not
+/// counted), from the definition: shared edge lengths plus edges on x = 0 and y = 0; `None`
+/// when some item touches nothing on its left or below (not BL-stable).
+fn contact_if_stable(items: &[Item], p: &[Pos]) -> Option<f64> {
+    let r = rects(items, p);
+    let ov = |a0: f64, a1: f64, b0: f64, b1: f64| (a1.min(b1) - a0.max(b0)).max(0.0);
+    let mut total = 0.0;
+    for a in &r {
+        let left: f64 = if a[0] <= 1e-9 {
+            a[3] - a[1]
+        } else {
+            r.iter()
+                .filter(|b| (b[2] - a[0]).abs() <= 1e-9)
+                .map(|b| ov(a[1], a[3], b[1], b[3]))
+                .sum()
+        };
+        let below: f64 = if a[1] <= 1e-9 {
+            a[2] - a[0]
+        } else {
+            r.iter()
+                .filter(|b| (b[3] - a[1]).abs() <= 1e-9)
+                .map(|b| ov(a[0], a[2], b[0], b[2]))
+                .sum()
+        };
+        if left <= 1e-9 || below <= 1e-9 {
+            return None;
+        }
+        total += left + below;
+    }
+    Some(total)
+}
+
+/// Every contact cut of the enumeration (left sides shared at one edge, bottoms over
+/// committed holes, dead states under a contact bound) keeps the best packing: on random
+/// small instances, the most contact over the BL-stable packings of a box is the same with
+/// the cuts (bound raised by every find) as without them.
+#[test]
+fn contact_cuts_keep_the_best_packing() {
+    let mut rng = Lcg(11);
+    let never = || false;
+    let mut compared = 0;
+    for case in 0..300 {
+        let items = random_items(&mut rng, false);
+        // Boxes near the items' area, where packings exist and have waste to place.
+        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+        let w = (2 + rng.below(5)) as f64;
+        let d = (area / w).ceil() + rng.below(3) as f64;
+        let mut all = f64::NEG_INFINITY;
+        let mut visit_all = |p: &[Pos]| {
+            if let Some(c) = contact_if_stable(&items, p) {
+                all = all.max(c);
+            }
+            false
+        };
+        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_all, None, [false; 2]);
+        assert!(done);
+        let bound = Cell::new(-1.0);
+        let mut best = f64::NEG_INFINITY;
+        let mut visit_cut = |p: &[Pos]| {
+            if let Some(c) = contact_if_stable(&items, p) {
+                if c > bound.get() + 1e-9 {
+                    bound.set(c);
+                    best = c;
+                }
+            }
+            false
+        };
+        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_cut, Some(&bound), [false; 2]);
+        assert!(done);
+        assert!(
+            (all - best).abs() <= 1e-9 || (all.is_infinite() && best.is_infinite()),
+            "case {case}: {items:?} in {w} × {d}: {all} without cuts, {best} with"
+        );
+        compared += all.is_finite() as u32;
+    }
+    assert!(compared > 150, "{compared}");
+}
+
+#[test]
+fn bounds_refute_only_what_cannot_fit() {
+    let it = squares(3);
+    assert!(refuted_by_bounds(&it, 4.0, 3.0));
+    assert!(!refuted_by_bounds(&it, 5.0, 3.0));
+}
