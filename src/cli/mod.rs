@@ -133,7 +133,8 @@ enum Cmd {
         /// plan.json.
         plan: PathBuf,
         /// `ros-yaml`, `ros-json`, `csv` (ROS 1 messages or CSV, one file per arm) or `ros2-goal`
-        /// (a ROS 2 FollowJointTrajectory goal for both arms, and the gripper commands).
+        /// (a ROS 2 FollowJointTrajectory goal for both arms, the gripper commands, and both as one
+        /// blocking action list).
         #[arg(long, default_value = "ros-yaml")]
         format: String,
         /// Output directory.

@@ -198,9 +198,12 @@ pub fn view_html(inst: &Instance, plan: &Plan) -> Result<String> {
                 ),
                 Some(tr) => {
                     let q = joints_at(tr, t);
+                    // The opening the arm last set: parks and returns home keep it (they have no
+                    // key poses of their own).
                     let before = list
                         .iter()
                         .rev()
+                        .filter(|p| !p.key_poses.is_empty())
                         .find(|p| p.t_end <= tr.t_start + 1e-9)
                         .and_then(|p| p.key_poses.last())
                         .map(|k| k.opening)
