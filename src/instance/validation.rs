@@ -61,6 +61,14 @@ impl Check<'_> {
             Err(self.err(field, format!("must be > 0, got {v}")))
         }
     }
+    /// `v` > 0 and at most `max` (`shown` formats the numbers and their unit for the message).
+    pub(super) fn positive_at_most(&self, field: &str, v: f64, max: f64, shown: impl Fn(f64) -> String) -> Result<f64> {
+        let v = self.positive(field, v)?;
+        if v > max {
+            return Err(self.err(field, format!("must be at most {}, got {}", shown(max), shown(v))));
+        }
+        Ok(v)
+    }
     pub(super) fn non_negative(&self, field: &str, v: f64) -> Result<f64> {
         self.finite(field, v)?;
         if v >= 0.0 {
@@ -444,16 +452,7 @@ fn planner_settings(c: &Check, p: &super::file::PlannerFile, scale: f64) -> Resu
             None => d.bl_orders,
         },
         time_limit: match p.time_limit {
-            Some(v) => {
-                let v = c.positive("planner.time_limit", v)?;
-                if v > MAX_TIME_LIMIT {
-                    return Err(c.err(
-                        "planner.time_limit",
-                        format!("must be at most {MAX_TIME_LIMIT:e} s, got {v:e} s"),
-                    ));
-                }
-                v
-            }
+            Some(v) => c.positive_at_most("planner.time_limit", v, MAX_TIME_LIMIT, |x| format!("{x:e} s"))?,
             None => d.time_limit,
         },
         max_nodes: match p.max_nodes {
@@ -466,29 +465,21 @@ fn planner_settings(c: &Check, p: &super::file::PlannerFile, scale: f64) -> Resu
             None => d.min_push_margin,
         },
         max_push_rotation: match p.max_push_rotation_deg {
-            Some(v) => {
-                let v = c.positive("planner.max_push_rotation_deg", v)?;
-                if v > MAX_PUSH_ROTATION_DEG {
-                    return Err(c.err(
-                        "planner.max_push_rotation_deg",
-                        format!("must be at most {MAX_PUSH_ROTATION_DEG} degrees, got {v}"),
-                    ));
-                }
-                v.to_radians()
-            }
+            Some(v) => c
+                .positive_at_most("planner.max_push_rotation_deg", v, MAX_PUSH_ROTATION_DEG, |x| {
+                    format!("{x} degrees")
+                })?
+                .to_radians(),
             None => d.max_push_rotation,
         },
         max_push_drift: match p.max_push_drift {
-            Some(v) => {
-                let v = l(c.positive("planner.max_push_drift", v)?);
-                if v > MAX_PUSH_DRIFT {
-                    return Err(c.err(
-                        "planner.max_push_drift",
-                        format!("must be at most {MAX_PUSH_DRIFT} m, got {} m", num(v)),
-                    ));
-                }
-                v
-            }
+            // Positive as written in the file (its units), at most the limit in metres.
+            Some(v) => c.positive_at_most(
+                "planner.max_push_drift",
+                l(c.positive("planner.max_push_drift", v)?),
+                MAX_PUSH_DRIFT,
+                |x| format!("{} m", num(x)),
+            )?,
             None => d.max_push_drift,
         },
         no_direct: p.no_direct.unwrap_or(false),
@@ -508,19 +499,10 @@ fn planner_settings(c: &Check, p: &super::file::PlannerFile, scale: f64) -> Resu
             Some(v) => Some(c.positive("planner.joint_acceleration", v)?),
             None => None,
         },
-        sample_dt: match p.sample_dt {
-            Some(v) => {
-                let v = c.positive("planner.sample_dt", v)?;
-                if v > MAX_SAMPLE_DT {
-                    return Err(c.err(
-                        "planner.sample_dt",
-                        format!("must be at most {MAX_SAMPLE_DT} s, got {v} s"),
-                    ));
-                }
-                Some(v)
-            }
-            None => None,
-        },
+        sample_dt: p
+            .sample_dt
+            .map(|v| c.positive_at_most("planner.sample_dt", v, MAX_SAMPLE_DT, |x| format!("{x} s")))
+            .transpose()?,
     })
 }
 
