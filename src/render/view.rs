@@ -178,6 +178,8 @@ pub fn view_html(inst: &Instance, plan: &Plan) -> Result<String> {
 
     let mut objects = Objects::new(inst);
     let mut opening = [inst.gripper.max_opening; 2];
+    // Places whose object was set at its release pose already (once per place is enough).
+    let mut released = vec![false; actions.len()];
     let mut frames = String::new();
     let n_frames = (end / FRAME_DT).ceil() as usize + 1;
     for f in 0..n_frames {
@@ -222,10 +224,11 @@ pub fn view_html(inst: &Instance, plan: &Plan) -> Result<String> {
                         },
                     };
                     opening[arm.index()] = hand.opening;
-                    if let Some(a @ Action::Place { .. }) = tr.action.and_then(|a| actions.get(a)) {
+                    if let Some((k, a @ Action::Place { .. })) = tr.action.and_then(|k| Some((k, actions.get(k)?))) {
                         // Past the release, the object stands exactly where it was let go (a
                         // frame may fall a little before the release pose).
-                        if seg > RELEASE && tr.key_poses.len() > RELEASE {
+                        if seg > RELEASE && tr.key_poses.len() > RELEASE && !released[k] {
+                            released[k] = true;
                             let at = &tr.key_poses[RELEASE].joints;
                             if let Ok(qr) = <[f64; 6]>::try_from(at.as_slice()) {
                                 let h = segment_hand(inst, &placement, a, RELEASE, &openings, before);
