@@ -136,12 +136,13 @@ pub enum Event {
         bound: Option<f64>,
     },
     /// A search inside a stage is under way: at most one every [`PROGRESS_INTERVAL`], from the
-    /// A* sequencer (the other searches report only their stage's start and finish).
+    /// sequencers (A* and the paper's, [`crate::sequence::paper::solve_with`]).
     Progress {
         /// The stage.
         stage: Stage,
-        /// Search nodes so far (sequence: A* expansions; 0 while A* still proves its lower
-        /// bound on the number of actions, before the main search).
+        /// Search nodes so far (sequence: A* expansions, 0 while A* still proves its lower
+        /// bound on the number of actions, before the main search; the paper sequencer's
+        /// assignments of Algorithm 1, then plus its depth-first nodes).
         nodes: u64,
         /// The best solution's objective so far, when there is one (sequence: number of
         /// actions).

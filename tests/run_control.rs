@@ -162,3 +162,47 @@ fn ctrl_c_stops_pushpack_plan_cleanly_and_writes_the_best_plan_so_far() {
     }
     assert!(stderr.contains("stopping"), "the user is told what happens: {stderr}");
 }
+
+/// The paper sequencer reports too, through both of its algorithms: nodes that only grow (the
+/// assignments of Algorithm 1, then Algorithm 2's nodes on top) and never a bound, since it
+/// proves none. `n12_k4_s0002`'s Bottom-Left placement keeps Algorithm 2 busy past its node limit.
+#[test]
+fn the_paper_sequencer_reports_its_progress_and_no_bound() {
+    let inst = common::load("random/n12/n12_k4_s0002.toml");
+    let mut o = PlanOptions::from_instance(&inst);
+    o.sequencer = Sequencer::Paper;
+    o.placement = pushpack::plan::PlacementSolver::Bl;
+    o.packing_only = true;
+    o.max_nodes = 300_000;
+    o.time_limit = 60.0;
+    let mut events = Recorder::default();
+    let start = std::time::Instant::now();
+    let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events);
+    let elapsed = start.elapsed();
+    let progress: Vec<(Stage, u64, Option<f64>, Option<f64>)> = events
+        .0
+        .iter()
+        .filter_map(|e| match e {
+            Event::Progress {
+                stage,
+                nodes,
+                incumbent,
+                bound,
+            } => Some((*stage, *nodes, *incumbent, *bound)),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        progress.len() >= 2,
+        "a search of {elapsed:?} reports more than once: {progress:?} ({:?})",
+        out.err()
+    );
+    assert!(progress.len() as f64 <= elapsed.as_secs_f64() / PROGRESS_INTERVAL.as_secs_f64() + 1.0);
+    let mut last_nodes = 0;
+    for (stage, nodes, _, bound) in progress {
+        assert_eq!(stage, Stage::Sequence);
+        assert!(nodes >= last_nodes, "nodes went from {last_nodes} down to {nodes}");
+        last_nodes = nodes;
+        assert_eq!(bound, None, "the paper sequencer proves no bound");
+    }
+}

@@ -389,7 +389,7 @@ fn sequence_one(
         max_nodes: opts.max_nodes,
     };
     match opts.sequencer {
-        Sequencer::Paper => sequence::paper::solve(inst, placement, &seq_opts, limit),
+        Sequencer::Paper => sequence::paper::solve_with(inst, placement, &seq_opts, limit, listener),
         Sequencer::Astar => sequence::astar::solve_with(inst, placement, &seq_opts, &opts.astar, limit, listener),
     }
 }

@@ -19,7 +19,7 @@
 
 use super::{metrics, SearchStatus, SequenceOptions, SequenceResult};
 use crate::actions::{push, Action, Layout, PlaceMode};
-use crate::control::Terminator;
+use crate::control::{Event, Listener, Silent, Stage, Terminator, Ticker};
 use crate::error::{Error, Result};
 use crate::geometry::Arm;
 use crate::geometry::{PushDir, EPS};
@@ -212,6 +212,19 @@ pub fn candidates(
     max_candidates: usize,
     stop: &dyn Terminator,
 ) -> std::result::Result<Vec<Candidate>, CandidatesStop> {
+    candidates_with(inst, placement, opts, max_candidates, stop, &mut |_| {})
+}
+
+/// [`candidates`], calling `examined` with the number of assignments examined so far every
+/// 256 assignments (Algorithm 1 alone can take seconds: the live display needs a pulse).
+fn candidates_with(
+    inst: &Instance,
+    placement: &Placement,
+    opts: &SequenceOptions,
+    max_candidates: usize,
+    stop: &dyn Terminator,
+    examined: &mut dyn FnMut(u64),
+) -> std::result::Result<Vec<Candidate>, CandidatesStop> {
     let n = inst.n();
     let mut choices = Vec::new();
     if !opts.no_direct {
@@ -243,8 +256,11 @@ pub fn candidates(
     let mut count = 0u64;
     loop {
         count += 1;
-        if count % 256 == 0 && stop.should_stop() {
-            return Err(CandidatesStop::Time);
+        if count % 256 == 0 {
+            examined(count);
+            if stop.should_stop() {
+                return Err(CandidatesStop::Time);
+            }
         }
         let assign: Vec<Choice> = (0..n).map(|i| options[i][idx[i]]).collect();
         let direct: Vec<usize> = (0..n).filter(|&i| assign[i] == Choice::Direct).collect();
@@ -349,6 +365,30 @@ struct Dfs<'a> {
     stopped: Option<SearchStatus>,
     memo: HashMap<(u128, [u8; 2]), f64>,
     stop: &'a dyn Terminator,
+    progress: Progress<'a>,
+}
+
+/// What Algorithm 2 tells a listener while it orders actions ([`solve_with`]).
+struct Progress<'a> {
+    listener: &'a mut dyn Listener,
+    ticker: Ticker,
+    /// Assignments of Algorithm 1 plus the nodes of the candidates already ordered.
+    nodes_before: u64,
+    /// Number of actions of the best order so far.
+    incumbent: Option<usize>,
+}
+
+impl Progress<'_> {
+    fn tick(&mut self, nodes: u64) {
+        if self.ticker.due() {
+            self.listener.event(&Event::Progress {
+                stage: Stage::Sequence,
+                nodes: self.nodes_before + nodes,
+                incumbent: self.incumbent.map(|l| l as f64),
+                bound: None,
+            });
+        }
+    }
 }
 
 const NO_ACTION: u8 = u8::MAX;
@@ -398,6 +438,7 @@ impl<'a> Dfs<'a> {
             return;
         }
         self.nodes += 1;
+        self.progress.tick(self.nodes);
         if self.nodes >= self.max_nodes {
             self.stopped = Some(SearchStatus::NodeLimit);
             return;
@@ -420,6 +461,7 @@ impl<'a> Dfs<'a> {
             if total < self.best_cost - 1e-12 {
                 self.best_cost = total;
                 self.best = Some((seq.clone(), margins.clone()));
+                self.progress.incumbent = Some(seq.len());
             }
             return;
         }
@@ -466,9 +508,39 @@ pub fn solve(
     opts: &SequenceOptions,
     stop: &dyn Terminator,
 ) -> Result<SequenceResult> {
+    solve_with(inst, placement, opts, stop, &mut Silent)
+}
+
+/// [`solve`], telling `listener` how it goes, at most every
+/// [`crate::control::PROGRESS_INTERVAL`] ([`Event::Progress`]): `nodes` counts Algorithm 1's
+/// assignments examined, then adds Algorithm 2's depth-first nodes over every candidate, so it
+/// only grows; `incumbent` is the best order's number of actions; `bound` is always `None`: the
+/// sequencer proves none.
+pub fn solve_with(
+    inst: &Instance,
+    placement: &Placement,
+    opts: &SequenceOptions,
+    stop: &dyn Terminator,
+    listener: &mut dyn Listener,
+) -> Result<SequenceResult> {
     let start = Instant::now();
+    let mut incumbent = None;
+    let mut ticker = Ticker::new();
     let stage = "sequence (paper, Algorithm 1)";
-    let mut cands = candidates(inst, placement, opts, MAX_CANDIDATES, stop).map_err(|why| match why {
+    let mut assignments = 0;
+    let mut pulse = |count: u64| {
+        assignments = count;
+        if ticker.due() {
+            listener.event(&Event::Progress {
+                stage: Stage::Sequence,
+                nodes: count,
+                incumbent: None,
+                bound: None,
+            });
+        }
+    };
+    let cands = candidates_with(inst, placement, opts, MAX_CANDIDATES, stop, &mut pulse);
+    let mut cands = cands.map_err(|why| match why {
         CandidatesStop::Time => SearchStatus::TimeLimit.no_plan(stage, 0, start.elapsed().as_secs_f64(), None),
         CandidatesStop::Candidates => Error::Stopped {
             stage: stage.into(),
@@ -537,10 +609,17 @@ pub fn solve(
                 stopped: None,
                 memo: HashMap::new(),
                 stop,
+                progress: Progress {
+                    listener: &mut *listener,
+                    ticker,
+                    nodes_before: assignments + nodes,
+                    incumbent,
+                },
             };
             let layout = Layout::new(inst, placement);
             dfs.rec(&layout, 0, home, [NO_ACTION; 2], 0.0, &mut Vec::new(), &mut Vec::new());
             nodes += dfs.nodes;
+            (ticker, incumbent) = (dfs.progress.ticker, dfs.progress.incumbent);
             if let Some((seq, margins)) = dfs.best {
                 best = Some((dfs.best_cost, seq, margins));
             }
