@@ -1,7 +1,8 @@
 //! Reachability as a planner predicate: [`super::joint_plan::action_reach`] (inverse kinematics of
 //! every key pose and collision checks of the straight lines against the fixed cell, a few to
 //! tens of ms) memoised per action, since it does not depend on where the other objects are;
-//! the objects on the table that block a pick are checked against the state on every query.
+//! the objects on the table that block a pick are checked against the state on every query, and
+//! so are the objects already packed, in a cell where the hand comes down among them.
 //!
 //! The planners ask millions of times for a few hundred distinct actions, so a hit must be
 //! cheap: the memo hashes the action's fields directly (no formatted string per call) and
@@ -125,9 +126,21 @@ impl<'a> ReachCache<'a> {
         self.with(a, |r| r.is_some())
     }
 
-    /// [`Self::ok`], and no object still on the table in `state` blocks the pick.
+    /// [`Self::ok`], and in `state` some hand variant is blocked neither by an object still on
+    /// the table nor by one already in the container.
     pub fn ok_when(&self, a: &Action, state: &[ObjState]) -> bool {
-        self.with(a, |r| r.is_some_and(|r| r.free_when(|j| state[j] == ObjState::Table)))
+        self.with(a, |r| {
+            r.is_some_and(|r| {
+                if !r.reaches_down() {
+                    return r.free_when(|j| state[j] == ObjState::Table);
+                }
+                r.free_in(self.inst, self.placement, |j| match state[j] {
+                    ObjState::Table => None,
+                    ObjState::Released { rect, .. } => Some(rect),
+                    ObjState::Done => Some(self.placement.targets[j].rect),
+                })
+            })
+        })
     }
 
     /// Per hand variant found, the objects that block it while still on the table (an empty
