@@ -136,17 +136,21 @@ pub enum Event {
         bound: Option<f64>,
     },
     /// A search inside a stage is under way: at most one every [`PROGRESS_INTERVAL`], from the
-    /// A* sequencer (the other searches report only their stage's start and finish).
+    /// A* sequencer and the exact placement (both of its stages; Bottom-Left and the paper's
+    /// sequencer report only their stage's start and finish).
     Progress {
         /// The stage.
         stage: Stage,
         /// Search nodes so far (sequence: A* expansions; 0 while A* still proves its lower
-        /// bound on the number of actions, before the main search).
+        /// bound on the number of actions, before the main search; placement: nodes of the
+        /// packing searches and HiGHS, the warm start's included). Never decreases.
         nodes: u64,
         /// The best solution's objective so far, when there is one (sequence: number of
-        /// actions).
+        /// actions; placement: occupied area, m², also during the contact stage, which keeps
+        /// it).
         incumbent: Option<f64>,
-        /// The proven lower bound on that objective so far.
+        /// The proven lower bound on that objective so far (it only rises, and never passes
+        /// the incumbent).
         bound: Option<f64>,
     },
 }

@@ -17,6 +17,9 @@ pub struct Search<'a> {
     stop: &'a dyn Fn() -> bool,
     /// Search nodes visited (both phases).
     pub nodes: u64,
+    /// A shared node count to keep up to date at every stop poll (for progress events), and
+    /// its value when this search started.
+    meter: Option<(&'a Cell<u64>, u64)>,
     stopped: bool,
     /// Previous item of the same class (identical objects are placed in index order).
     prev_same: Vec<Option<usize>>,
@@ -69,7 +72,9 @@ impl<'a> Search<'a> {
     /// something on their left and below among them) into `visit`. With `bound`, only packings
     /// whose contact length (objects, the walls x = 0 and y = 0, and the far walls where `far`
     /// says the box reaches them) may exceed it are guaranteed to be visited; the visitor may
-    /// raise it. Returns whether the enumeration finished (`false`: stopped by `stop`).
+    /// raise it. `meter`: a node count kept up to date ([`Search::metered`]). Returns whether
+    /// the enumeration finished (`false`: stopped by `stop`) and the nodes visited.
+    #[allow(clippy::too_many_arguments)] // each is one independent input of the enumeration
     pub fn enumerate(
         items: &'a [Item],
         w: f64,
@@ -78,8 +83,9 @@ impl<'a> Search<'a> {
         visit: &'a mut Visitor<'a>,
         bound: Option<&'a Cell<f64>>,
         far: [bool; 2],
+        meter: Option<&'a Cell<u64>>,
     ) -> (bool, u64) {
-        let mut s = Search::new(items, w, d, stop);
+        let mut s = Search::new(items, w, d, stop).metered(meter);
         s.anchor = None;
         s.visit = Some(visit);
         s.cbound = bound;
@@ -115,6 +121,7 @@ impl<'a> Search<'a> {
             t,
             stop,
             nodes: 0,
+            meter: None,
             stopped: false,
             prev_same,
             min_area,
@@ -193,10 +200,22 @@ impl<'a> Search<'a> {
 
     fn tick(&mut self) -> bool {
         self.nodes += 1;
-        if self.nodes & 1023 == 0 && (self.stop)() {
-            self.stopped = true;
+        if self.nodes & 1023 == 0 {
+            if let Some((m, base)) = self.meter {
+                m.set(base + self.nodes);
+            }
+            if (self.stop)() {
+                self.stopped = true;
+            }
         }
         self.stopped
+    }
+
+    /// Keep `meter` at its current value plus this search's nodes, at every stop poll (the
+    /// caller adds the final count when the search returns).
+    pub fn metered(mut self, meter: Option<&'a Cell<u64>>) -> Self {
+        self.meter = meter.map(|m| (m, m.get()));
+        self
     }
 
     fn dims(&self, i: usize) -> [f64; 2] {

@@ -166,7 +166,7 @@ fn contact_cuts_keep_the_best_packing() {
             }
             false
         };
-        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_all, None, [false; 2]);
+        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_all, None, [false; 2], None);
         assert!(done);
         let bound = Cell::new(-1.0);
         let mut best = f64::NEG_INFINITY;
@@ -179,7 +179,7 @@ fn contact_cuts_keep_the_best_packing() {
             }
             false
         };
-        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_cut, Some(&bound), [false; 2]);
+        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_cut, Some(&bound), [false; 2], None);
         assert!(done);
         assert!(
             (all - best).abs() <= 1e-9 || (all.is_infinite() && best.is_infinite()),
