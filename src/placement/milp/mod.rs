@@ -170,7 +170,7 @@ impl Default for MilpSettings {
 }
 
 /// Distinct footprints (x-extent, y-extent) of each object with their orientations.
-fn footprints(inst: &Instance) -> Vec<Footprints> {
+pub fn footprints(inst: &Instance) -> Vec<Footprints> {
     inst.objects
         .iter()
         .map(|o| {
