@@ -12,6 +12,9 @@
 //! # the packing search alone on each enclosing box W × D (W ≥ D) of area below the optimum
 //! # and at it, that the bounds do not refute (integer sizes): outcome, nodes, seconds
 //! cargo bench --bench placement_squares -- --boxes 18 --time-limit 300
+//! # the contact stage's enumeration alone on each box of the optimal area that packs (loose
+//! # container): nodes, seconds, finished or not, the best contact length found (units)
+//! cargo bench --bench placement_squares -- --contact 17 --time-limit 60
 //! ```
 
 use pushpack::control::TimeLimit;
@@ -39,6 +42,10 @@ fn main() {
     let boxes: u32 = arg(&args, "--boxes", 0);
     if boxes > 0 {
         return decide_boxes(boxes, limit);
+    }
+    let contact: u32 = arg(&args, "--contact", 0);
+    if contact > 0 {
+        return contact_boxes(contact, limit);
     }
     let masters: Vec<AreaMaster> = arg(&args, "--masters", "search".to_string())
         .split(',')
@@ -152,6 +159,49 @@ fn decide_boxes(n: u32, limit: f64) {
             "| {w} | {d} | {} | {kind} | {} | {:.3} | {:.3} |",
             w * d,
             nodes,
+            t0.elapsed().as_secs_f64(),
+            cpu_s() - c0
+        );
+    }
+}
+
+/// `--contact N`: [`pushpack::placement::area::max_contact`] alone on every box `W × D` of the
+/// optimal area that packs (both orientations: the pipeline skips a transpose only when the walls
+/// allow), starting from no contact to beat.
+fn contact_boxes(n: u32, limit: f64) {
+    use pushpack::placement::area::max_contact;
+    use pushpack::placement::opp::{decide, Item, Outcome};
+    use std::time::Instant;
+    let inst = Instance::parse(&consecutive_squares_toml(n, None), false, "<bench>", None).expect("valid");
+    let fps = milp::footprints(&inst);
+    let items: Vec<Item> = (1..=n)
+        .rev()
+        .map(|s| Item {
+            opts: vec![[s as f64, s as f64]],
+            class: s as usize,
+        })
+        .collect();
+    let best = A038666[n as usize - 1];
+    println!("| W | D | finished | contact (units) | nodes | s | CPU s |");
+    println!("|---|---|---|---|---|---|---|");
+    for w in n..=best / n {
+        let d = best / w;
+        if d < n || w * d != best || d > w {
+            continue;
+        }
+        let never = || false;
+        if !matches!(decide(&items, w as f64, d as f64, &never).0, Outcome::Packed(_)) {
+            continue;
+        }
+        let t0 = Instant::now();
+        let c0 = cpu_s();
+        let stop = || t0.elapsed().as_secs_f64() > limit;
+        let e = (w as f64 * 0.002, d as f64 * 0.002);
+        let (p, done, nodes) = max_contact(&inst, &fps, e, 0.0, &stop, None);
+        let c = p.map(|p| p.contact_length(&inst) / 0.002).unwrap_or(0.0);
+        println!(
+            "| {w} | {d} | {} | {c:.0} | {nodes} | {:.3} | {:.3} |",
+            if done { "yes" } else { "no" },
             t0.elapsed().as_secs_f64(),
             cpu_s() - c0
         );

@@ -105,7 +105,7 @@ mod tests {
 
     /// A HiGHS failure is a fault: it carries no status (so no stage, plan file, CLI line or
     /// benchmark row can read it as `infeasible`), and it is not bad input (exit code 1, not 2).
-    /// Provoking a real HiGHS failure needs a hook inside `placement::milp` (docs/architecture.md).
+    /// `tests/placement_solver_errors.rs` provokes real HiGHS failures through the placement.
     #[test]
     fn a_solver_failure_is_an_error_never_a_status() {
         let e = Error::Solver {

@@ -66,6 +66,11 @@ enum Cmd {
         /// (as long as the area stage, at least 1 s) or seconds.
         #[arg(long)]
         contact_budget: Option<String>,
+        /// Exact solver only: set a HiGHS option, `NAME=VALUE`, on every HiGHS model of the
+        /// placement (repeatable; for experiments, e.g. `output_flag=true`). HiGHS checks the
+        /// value: one it rejects, or a run it fails, is a solver error (exit 1).
+        #[arg(long = "highs-option", value_name = "NAME=VALUE")]
+        highs_option: Vec<String>,
     },
     /// Plan everything, verify the plan, write plan.json and pictures.
     Plan {
@@ -398,6 +403,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             json,
             area_master,
             contact_budget,
+            highs_option,
         } => cmd_place(
             instance,
             solver,
@@ -407,6 +413,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             ExactArgs {
                 area_master,
                 contact_budget,
+                highs_options: highs_option,
             },
         ),
         Cmd::Plan {
@@ -600,6 +607,7 @@ fn cmd_plan(
 struct ExactArgs {
     area_master: Option<String>,
     contact_budget: Option<String>,
+    highs_options: Vec<String>,
 }
 
 impl ExactArgs {
@@ -620,7 +628,18 @@ impl ExactArgs {
                 }
             },
         };
-        Ok(MilpSettings {
+        let mut highs_options = Vec::new();
+        for o in &self.highs_options {
+            let Some((name, value)) = o.split_once('=') else {
+                return Err(Error::input(
+                    "<command line>",
+                    "--highs-option",
+                    format!("must be NAME=VALUE, got {o:?}"),
+                ));
+            };
+            highs_options.push((name.trim().to_string(), value.trim().to_string()));
+        }
+        let settings = MilpSettings {
             time_limit,
             contact_stage: true,
             seed,
@@ -629,12 +648,15 @@ impl ExactArgs {
                 _ => AreaMaster::Search,
             },
             contact_budget,
+            highs_options,
             ..MilpSettings::default()
-        })
+        };
+        settings.check_highs_options("<command line>", "--highs-option")?;
+        Ok(settings)
     }
 
     fn given(&self) -> bool {
-        self.area_master.is_some() || self.contact_budget.is_some()
+        self.area_master.is_some() || self.contact_budget.is_some() || !self.highs_options.is_empty()
     }
 }
 
@@ -656,7 +678,7 @@ fn cmd_place(
     } else if exact.given() {
         return Err(Error::input(
             "<command line>",
-            "--area-master/--contact-budget",
+            "--area-master/--contact-budget/--highs-option",
             "only the exact solver has them: add --solver milp",
         ));
     } else {

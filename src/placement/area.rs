@@ -265,6 +265,9 @@ pub struct AreaOptions<'a> {
     pub budget_first_s: f64,
     /// What decides each box.
     pub decider: &'a Decider<'a>,
+    /// Told the proven lower bound and the incumbent's area whenever either changes (the
+    /// progress events).
+    pub on_bound: &'a dyn Fn(f64, Option<f64>),
 }
 
 /// Run the area stage. `warm`: a placement to start from (ignored unless valid); `stop`: polled
@@ -281,6 +284,7 @@ pub fn solve(
         start,
         budget_first_s: budget_first,
         decider,
+        on_bound,
     } = *opts;
     let (cw, cd) = (inst.container.width, inst.container.depth);
     let (items, order) = items(fps);
@@ -304,6 +308,7 @@ pub fn solve(
     let elapsed = || start.elapsed().as_secs_f64();
     let trace = |out: &mut AreaStage, lb: f64, best: &Option<Placement>| {
         let inc = best.as_ref().map(|p| p.occupied_area());
+        on_bound(lb, inc);
         if out
             .trace
             .last()
@@ -457,13 +462,15 @@ pub fn solve(
 /// Second stage by enumeration: the most contact length among the BL-stable packings inside
 /// `w × d` (the search meets every one of them, see [`opp`]), if more than `to_beat`. Returns
 /// the best placement found (`None`: none beats `to_beat`), whether the enumeration finished
-/// (then nothing in the box beats the result), and the nodes visited.
+/// (then nothing in the box beats the result), and the nodes visited. `meter`: a node count kept
+/// up to date for progress events.
 pub fn max_contact(
     inst: &Instance,
     fps: &[Footprints],
     (w, d): (f64, f64),
     to_beat: f64,
     stop: &dyn Fn() -> bool,
+    meter: Option<&std::cell::Cell<u64>>,
 ) -> (Option<Placement>, bool, u64) {
     let (items, order) = items(fps);
     let flip = w < d;
@@ -498,9 +505,9 @@ pub fn max_contact(
         false
     };
     let (complete, nodes) = if flip {
-        Search::enumerate(&swapped(&items), d, w, stop, &mut visit, Some(&bound), far)
+        Search::enumerate(&swapped(&items), d, w, stop, &mut visit, Some(&bound), far, meter)
     } else {
-        Search::enumerate(&items, w, d, stop, &mut visit, Some(&bound), far)
+        Search::enumerate(&items, w, d, stop, &mut visit, Some(&bound), far, meter)
     };
     (best.map(|(_, p)| p), complete, nodes)
 }

@@ -8,6 +8,7 @@ pub mod area;
 pub mod bl;
 pub mod milp;
 pub mod opp;
+mod progress;
 
 use crate::geometry::{Axis2, Orientation, Rect, EPS};
 use crate::instance::Instance;

@@ -53,10 +53,11 @@ pub fn solve_placement_report(
     bl_orders: usize,
     time_limit: f64,
 ) -> Result<(PlacementResult, Option<placement::milp::MilpReport>)> {
-    solve_placement_with(inst, solver, seed, bl_orders, time_limit, &Never)
+    solve_placement_with(inst, solver, seed, bl_orders, time_limit, &Never, &mut Silent)
 }
 
-/// [`solve_placement_report`] that also stops when `stop` says so (a cancel flag).
+/// [`solve_placement_report`] that also stops when `stop` says so (a cancel flag) and tells
+/// `listener` how the exact search goes ([`Event::Progress`]).
 pub fn solve_placement_with(
     inst: &Instance,
     solver: PlacementSolver,
@@ -64,6 +65,7 @@ pub fn solve_placement_with(
     bl_orders: usize,
     time_limit: f64,
     stop: &dyn Terminator,
+    listener: &mut dyn Listener,
 ) -> Result<(PlacementResult, Option<placement::milp::MilpReport>)> {
     let clock = TimeLimit::new(time_limit);
     let limit = Either(&clock, stop);
@@ -79,7 +81,7 @@ pub fn solve_placement_with(
             };
             // Bottom-Left finding nothing proves nothing: the exact search starts without it.
             let warm = bl.unwrap_or_else(|_| PlacementResult::empty("bl", clock.elapsed()));
-            placement::milp::solve_report(inst, &warm, &settings, &limit).map(|(r, rep)| (r, Some(rep)))
+            placement::milp::solve_listen(inst, &warm, &settings, &limit, listener).map(|(r, rep)| (r, Some(rep)))
         }
     }
 }
@@ -99,7 +101,7 @@ pub fn solve_placement_exact(
     let warm = bl.unwrap_or_else(|_| PlacementResult::empty("bl", clock.elapsed()));
     let rest = placement::milp::MilpSettings {
         time_limit: (settings.time_limit - clock.elapsed()).max(0.0),
-        ..*settings
+        ..settings.clone()
     };
     placement::milp::solve_report(inst, &warm, &rest, &limit)
 }
@@ -279,6 +281,7 @@ pub fn optimize_stages(
         opts.bl_orders,
         budget.placement_s,
         stop,
+        listener,
     ) {
         Ok((p, _)) => p,
         Err(e) => return (None, Err(e)),

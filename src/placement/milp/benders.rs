@@ -64,6 +64,7 @@ impl Master {
         d: f64,
         cuts: &[Vec<usize>],
         time_left: f64,
+        options: &[(String, String)],
         nodes: &mut u64,
     ) -> Result<Option<Option<Assignment>>> {
         let mut pv = ProblemVariables::new();
@@ -115,7 +116,17 @@ impl Master {
         // Presolve off: HiGHS 1.x presolve reduced five equal squares in 3 × 2 slots to an empty
         // model whose postsolved solution broke a row, and then reported an error
         // (`benders::tests::five_equal_squares_fit_three_by_two`).
-        let solved = run_highs(problem, None, time_left, 0, 0.0, false)?;
+        let solved = run_highs(
+            problem,
+            &HighsRun {
+                initial: None,
+                time_left,
+                seed: 0,
+                abs_gap: 0.0,
+                presolve: false,
+                options,
+            },
+        )?;
         *nodes += solved.nodes;
         match solved.status {
             HighsModelStatus::Infeasible => Ok(None),
@@ -160,6 +171,7 @@ pub fn decide_benders(
     d: f64,
     stop: &dyn Fn() -> bool,
     time_left: &dyn Fn() -> f64,
+    options: &[(String, String)],
 ) -> Result<(Outcome, u64)> {
     if crate::placement::opp::refuted_by_bounds(items, w, d) {
         return Ok((Outcome::Infeasible, 0));
@@ -171,7 +183,7 @@ pub fn decide_benders(
         if stop() || time_left() <= 0.0 {
             return Ok((Outcome::Stopped, nodes));
         }
-        let Some(sol) = master.solve(items, d, &cuts, time_left(), &mut nodes)? else {
+        let Some(sol) = master.solve(items, d, &cuts, time_left(), options, &mut nodes)? else {
             return Ok((Outcome::Infeasible, nodes));
         };
         let Some(a) = sol else {
@@ -222,7 +234,7 @@ mod tests {
                 class: 0,
             })
             .collect();
-        let (r, _) = decide_benders(&items, 0.21, 0.14, &|| false, &|| 10.0).unwrap();
+        let (r, _) = decide_benders(&items, 0.21, 0.14, &|| false, &|| 10.0, &[]).unwrap();
         assert!(matches!(r, Outcome::Packed(_)), "{r:?}");
     }
 }

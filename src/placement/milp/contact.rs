@@ -15,6 +15,7 @@ pub(super) fn grid_contact_stage(
     warm: Option<&Placement>,
     time_left: f64,
     seed: u64,
+    options: &[(String, String)],
 ) -> Result<Option<(Placement, bool, u64)>> {
     let mut cols = Cols {
         pv: ProblemVariables::new(),
@@ -109,7 +110,17 @@ pub(super) fn grid_contact_stage(
     for c in m.constraints.iter().cloned() {
         problem = problem.with(c);
     }
-    let solved = run_highs(problem, init.as_deref(), time_left, seed, 1e-9, false)?;
+    let solved = run_highs(
+        problem,
+        &HighsRun {
+            initial: init.as_deref(),
+            time_left,
+            seed,
+            abs_gap: 1e-9,
+            presolve: false,
+            options,
+        },
+    )?;
     let Some(c) = solved.cols.as_deref() else {
         return Ok(None);
     };
@@ -128,6 +139,7 @@ pub(super) fn contact_stage(
     p: &Placement,
     time_left: f64,
     seed: u64,
+    options: &[(String, String)],
 ) -> Result<Option<(Placement, bool, u64)>> {
     let (w, d) = p.extent();
     let (cw, cd) = (inst.container.width, inst.container.depth);
@@ -271,7 +283,17 @@ pub(super) fn contact_stage(
     for c in m.constraints.iter().cloned() {
         problem = problem.with(c);
     }
-    let solved = run_highs(problem, Some(&init), time_left, seed, 1e-9, true)?;
+    let solved = run_highs(
+        problem,
+        &HighsRun {
+            initial: Some(&init),
+            time_left,
+            seed,
+            abs_gap: 1e-9,
+            presolve: true,
+            options,
+        },
+    )?;
     let Some(c) = solved.cols.as_deref() else {
         return Ok(None);
     };

@@ -32,10 +32,12 @@
 
 use super::area::{self, subset_sums, BoundPoint, Footprint, Footprints};
 use super::{is_bl_stable, Placement, PlacementResult, PlacementStatus, Target};
-use crate::control::Terminator;
+use crate::control::{Listener, Silent, Terminator};
 use crate::error::{Error, Result};
 use crate::geometry::{Axis2, Rect, EPS};
 use crate::instance::Instance;
+use crate::placement::opp::Item;
+use crate::placement::progress::Progress;
 use good_lp::solvers::highs::highs;
 use good_lp::{variable, Constraint, Expression, ProblemVariables, SolverModel, Variable};
 use highs::HighsModelStatus;
@@ -86,7 +88,7 @@ pub enum AreaMaster {
 }
 
 /// MILP settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MilpSettings {
     /// Wall-clock limit for the whole placement (s).
     pub time_limit: f64,
@@ -102,6 +104,55 @@ pub struct MilpSettings {
     /// Largest grid model (cover-row non-zeros) built before the contact stage falls back to
     /// the disjunctive model (default 400,000; how it was chosen: docs/benchmarks/history.md).
     pub grid_max_nnz: usize,
+    /// Extra HiGHS options `(name, value)`, set on every HiGHS model of the placement (the
+    /// area stage's HiGHS master, the contact MILPs) after pushpack's own, for experiments
+    /// (`output_flag = true` shows HiGHS's log). HiGHS parses and checks each value; an
+    /// option it rejects, or a run it fails, is [`Error::Solver`]. Names pushpack sets itself
+    /// or whose value changes what HiGHS's "optimal" and "infeasible" prove are refused by
+    /// [`MilpSettings::check_highs_options`] (see [`FORBIDDEN_HIGHS_OPTIONS`]). Default: none.
+    pub highs_options: Vec<(String, String)>,
+}
+
+/// HiGHS options [`MilpSettings::highs_options`] may not set: those pushpack sets for its
+/// proofs (time limit, gaps, seed, threads, presolve) and those that change what an answer of
+/// HiGHS proves (`objective_bound` and `objective_target` turn "nothing better than the bound"
+/// into "infeasible"); every `*_tolerance` is refused as well.
+pub const FORBIDDEN_HIGHS_OPTIONS: [&str; 8] = [
+    "time_limit",
+    "mip_rel_gap",
+    "mip_abs_gap",
+    "random_seed",
+    "threads",
+    "presolve",
+    "objective_bound",
+    "objective_target",
+];
+
+impl MilpSettings {
+    /// Check [`Self::highs_options`] before any solve: a name must be a HiGHS-style identifier
+    /// (lower-case letters, digits, `_`) and not one of [`FORBIDDEN_HIGHS_OPTIONS`] or a
+    /// tolerance, and a value must hold no NUL byte. Whether HiGHS knows the name and accepts
+    /// the value only HiGHS can say: it is asked when a model is built (an
+    /// [`Error::Solver`] then). `file` and `field` name the input in the error.
+    pub fn check_highs_options(&self, file: &str, field: &str) -> Result<()> {
+        for (name, value) in &self.highs_options {
+            let bad = |why: String| Err(Error::input(file, field, format!("HiGHS option {name:?}: {why}")));
+            if name.is_empty()
+                || !name
+                    .bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
+            {
+                return bad("a name is lower-case letters, digits and '_'".into());
+            }
+            if FORBIDDEN_HIGHS_OPTIONS.contains(&name.as_str()) || name.ends_with("_tolerance") {
+                return bad("pushpack sets it itself, or it changes what HiGHS's answers prove".into());
+            }
+            if value.contains('\0') {
+                return bad("the value holds a NUL byte".into());
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for MilpSettings {
@@ -113,12 +164,13 @@ impl Default for MilpSettings {
             contact_budget: ContactBudget::Rest,
             area_master: AreaMaster::Search,
             grid_max_nnz: GRID_MAX_NNZ,
+            highs_options: Vec::new(),
         }
     }
 }
 
 /// Distinct footprints (x-extent, y-extent) of each object with their orientations.
-fn footprints(inst: &Instance) -> Vec<Footprints> {
+pub fn footprints(inst: &Instance) -> Vec<Footprints> {
     inst.objects
         .iter()
         .map(|o| {

@@ -84,24 +84,53 @@ pub fn solve_report(
     settings: &MilpSettings,
     stop: &dyn Terminator,
 ) -> Result<(PlacementResult, MilpReport)> {
+    solve_listen(inst, warm, settings, stop, &mut Silent)
+}
+
+/// [`solve_report`], telling `listener` how the search goes: [`crate::control::Event::Progress`]
+/// with the nodes so far (the warm start's included), the incumbent's occupied area (m²) and the
+/// proven lower bound on it, at most one per [`crate::control::PROGRESS_INTERVAL`], from inside
+/// the packing searches of both stages. The bound only rises and never passes the incumbent.
+pub fn solve_listen(
+    inst: &Instance,
+    warm: &PlacementResult,
+    settings: &MilpSettings,
+    stop: &dyn Terminator,
+    listener: &mut dyn Listener,
+) -> Result<(PlacementResult, MilpReport)> {
+    settings.check_highs_options("<settings>", "highs_options")?;
     let start = Instant::now();
     let left = |s: &MilpSettings| s.time_limit - start.elapsed().as_secs_f64();
     let fps = footprints(inst);
-    let halt = || stop.should_stop() || left(settings) <= 0.0;
+    let progress = Progress::new(listener, warm.nodes);
+    // Every search polls this now and then: the place to send a progress event.
+    let halt = || {
+        progress.tick();
+        stop.should_stop() || left(settings) <= 0.0
+    };
     let warm_p = (!warm.placement.targets.is_empty()).then_some(&warm.placement);
-    // Without a warm start, a quarter of the limit may go to finding any packing at all.
-    let highs_master = |items: &[crate::placement::opp::Item], w: f64, d: f64, stop: &dyn Fn() -> bool| {
-        benders::decide_benders(items, w, d, stop, &|| left(settings))
+    let search_master = |items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool| {
+        let base = progress.nodes.get();
+        let (r, n) = crate::placement::opp::decide_metered(items, w, d, stop, Some(&progress.nodes));
+        progress.reach_nodes(base + n);
+        Ok((r, n))
+    };
+    let highs_master = |items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool| {
+        let (r, n) = benders::decide_benders(items, w, d, stop, &|| left(settings), &settings.highs_options)?;
+        progress.reach_nodes(progress.nodes.get() + n);
+        Ok((r, n))
     };
     let decider: &area::Decider = match settings.area_master {
-        AreaMaster::Search => &area::by_search,
+        AreaMaster::Search => &search_master,
         AreaMaster::Highs => &highs_master,
     };
+    // Without a warm start, a quarter of the limit may go to finding any packing at all.
     let area_opts = area::AreaOptions {
         contact: settings.contact_stage,
         start,
         budget_first_s: settings.time_limit * 0.25,
         decider,
+        on_bound: &|lb, inc| progress.set(lb, inc),
     };
     let area = area::solve(inst, &fps, warm_p, &area_opts, &halt)?;
     let area_stage_s = start.elapsed().as_secs_f64();
@@ -145,6 +174,9 @@ pub fn solve_report(
         })
     });
     let mut contact_optimal = false;
+    // The contact stage keeps the area: its events show the area's incumbent and bound.
+    progress.reach_nodes(nodes);
+    progress.set(if area_optimal { best_area } else { lower_bound }, Some(best_area));
     if settings.contact_stage && left(settings) > 0.0 && !stop.should_stop() {
         // Every distinct extent pair reaching the optimal area gets its own contact stage.
         let mut extents: Vec<(f64, f64)> = Vec::new();
@@ -199,12 +231,17 @@ pub fn solve_report(
             // committed n12 and n16 sets, the enumeration made every contact proof and HiGHS none
             // (docs/benchmarks.md), but HiGHS may still raise the contact found.
             let enum_end = start.elapsed().as_secs_f64() + 0.9 * contact_left();
-            let halt_enum = || stop.should_stop() || contact_left() <= 0.0 || start.elapsed().as_secs_f64() >= enum_end;
+            let halt_enum = || {
+                progress.tick();
+                stop.should_stop() || contact_left() <= 0.0 || start.elapsed().as_secs_f64() >= enum_end
+            };
             let t_enum = Instant::now();
-            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, best_contact, &halt_enum);
+            let meter = Some(&progress.nodes);
+            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, best_contact, &halt_enum, meter);
             report.contact_enumeration_s += t_enum.elapsed().as_secs_f64();
             report.contact_proofs_by_enumeration += complete as u64;
             nodes += n_enum;
+            progress.reach_nodes(nodes);
             if let Some(p) = &enum_best {
                 let c = p.contact_length(inst);
                 if c > best_contact + 1e-9 && p.occupied_area() <= best_area + 1e-12 {
@@ -223,9 +260,17 @@ pub fn solve_report(
             let warm_p = enum_best.as_ref().or(warm_p);
             let t_milp = Instant::now();
             let res = if GridModel::size(inst, &fps, e.0, e.1) <= settings.grid_max_nnz {
-                grid_contact_stage(inst, &fps, e, warm_p, contact_left(), settings.seed)?
+                grid_contact_stage(
+                    inst,
+                    &fps,
+                    e,
+                    warm_p,
+                    contact_left(),
+                    settings.seed,
+                    &settings.highs_options,
+                )?
             } else if let Some(wp) = warm_p {
-                contact_stage(inst, &fps, wp, contact_left(), settings.seed)?
+                contact_stage(inst, &fps, wp, contact_left(), settings.seed, &settings.highs_options)?
             } else {
                 None
             };
@@ -234,6 +279,7 @@ pub fn solve_report(
             match res {
                 Some((p, opt, n2)) => {
                     nodes += n2;
+                    progress.reach_nodes(nodes);
                     report.contact_proofs_by_milp += opt as u64;
                     all_optimal &= opt;
                     done.push((e, opt));

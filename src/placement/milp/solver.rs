@@ -9,14 +9,34 @@ pub(super) struct Solved {
     pub(super) nodes: u64,
 }
 
-pub(super) fn run_highs(
-    problem: good_lp::solvers::highs::HighsProblem,
-    initial: Option<&[f64]>,
-    time_left: f64,
-    seed: u64,
-    abs_gap: f64,
-    presolve: bool,
-) -> Result<Solved> {
+/// How to run HiGHS on one model.
+pub(super) struct HighsRun<'a> {
+    /// Solution to start from (column values).
+    pub(super) initial: Option<&'a [f64]>,
+    /// Seconds HiGHS may take.
+    pub(super) time_left: f64,
+    /// HiGHS's random seed.
+    pub(super) seed: u64,
+    /// `mip_abs_gap`.
+    pub(super) abs_gap: f64,
+    /// Presolve on.
+    pub(super) presolve: bool,
+    /// The user's extra options ([`MilpSettings::highs_options`]), set last.
+    pub(super) options: &'a [(String, String)],
+}
+
+/// Solve `problem` with HiGHS. Every failure of HiGHS — an option it rejects, a run that returns
+/// an error status — is [`Error::Solver`] naming what failed, never a model status: only a
+/// model status HiGHS reports is read as a proof.
+pub(super) fn run_highs(problem: good_lp::solvers::highs::HighsProblem, run: &HighsRun) -> Result<Solved> {
+    let HighsRun {
+        initial,
+        time_left,
+        seed,
+        abs_gap,
+        presolve,
+        options,
+    } = *run;
     let mut model = problem.try_into_inner().map_err(|e| Error::Solver {
         solver: "HiGHS".into(),
         reason: format!("could not build the model: {e}"),
@@ -30,12 +50,26 @@ pub(super) fn run_highs(
     if !presolve {
         model.set_option("presolve", "off");
     }
+    for (name, value) in options {
+        // HiGHS parses the string into the option's type and checks its range itself.
+        model
+            .try_set_option(name.as_str(), value.as_str())
+            .map_err(|_| Error::Solver {
+                solver: "HiGHS".into(),
+                reason: format!("option {name} = {value:?} rejected (status Error: unknown option or illegal value)"),
+            })?;
+    }
     if let Some(sol) = initial {
         model.set_solution(Some(sol), None, None, None);
     }
     let solved = model.try_solve().map_err(|e| Error::Solver {
         solver: "HiGHS".into(),
-        reason: format!("{e:?}"),
+        reason: if options.is_empty() {
+            format!("the run returned status {e:?}")
+        } else {
+            let set: Vec<String> = options.iter().map(|(n, v)| format!("{n} = {v:?}")).collect();
+            format!("the run returned status {e:?} (extra options: {})", set.join(", "))
+        },
     })?;
     let status = solved.status();
     let has_sol = solved.primal_solution_status() == highs::HighsSolutionStatus::Feasible;

@@ -159,9 +159,21 @@ pub fn refuted_by_bounds(items: &[Item], w: f64, d: f64) -> bool {
 /// units' area free, each unit goes into a free cell, and the others packing is equivalent to all
 /// packing. Returns the outcome and the nodes visited.
 pub fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outcome, u64) {
+    decide_metered(items, w, d, stop, None)
+}
+
+/// [`decide`], keeping `meter` up to date with the nodes visited ([`Search::metered`]; the
+/// caller adds the returned count when it returns).
+pub fn decide_metered(
+    items: &[Item],
+    w: f64,
+    d: f64,
+    stop: &dyn Fn() -> bool,
+    meter: Option<&std::cell::Cell<u64>>,
+) -> (Outcome, u64) {
     let units = unit_items(items, w, d);
     if units.is_empty() {
-        let mut s = Search::new(items, w, d, stop);
+        let mut s = Search::new(items, w, d, stop).metered(meter);
         let r = s.run();
         return (r, s.nodes);
     }
@@ -170,7 +182,7 @@ pub fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outco
     }
     let rest: Vec<usize> = (0..items.len()).filter(|i| !units.contains(i)).collect();
     let sub: Vec<Item> = rest.iter().map(|&i| items[i].clone()).collect();
-    let mut s = Search::new(&sub, w, d, stop);
+    let mut s = Search::new(&sub, w, d, stop).metered(meter);
     let r = s.run();
     let r = match r {
         Outcome::Packed(p) => {

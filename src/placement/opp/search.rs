@@ -4,6 +4,35 @@
 use super::*;
 use std::cell::Cell;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// The memo's hasher: the multiply-and-rotate of rustc's FxHash. The keys are the search's own
+/// integers (no adversary), and the default SipHash took 8 % of the contact enumeration's time
+/// (perf, squares 1…15).
+#[derive(Default, Clone, Copy)]
+struct FxHasher(u64);
+
+impl Hasher for FxHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut b = [0u8; 8];
+            b[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(b));
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.write_u64(v as u64);
+    }
+    fn write_usize(&mut self, v: usize) {
+        self.write_u64(v as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
 
 /// What enumeration hands each packing to; `true` stops it.
 pub type Visitor<'a> = dyn FnMut(&[Pos]) -> bool + 'a;
@@ -17,6 +46,9 @@ pub struct Search<'a> {
     stop: &'a dyn Fn() -> bool,
     /// Search nodes visited (both phases).
     pub nodes: u64,
+    /// A shared node count to keep up to date at every stop poll (for progress events), and
+    /// its value when this search started.
+    meter: Option<(&'a Cell<u64>, u64)>,
     stopped: bool,
     /// Previous item of the same class (identical objects are placed in index order).
     prev_same: Vec<Option<usize>>,
@@ -24,6 +56,14 @@ pub struct Search<'a> {
     min_area: Vec<f64>,
     /// Least depth of each item among its fitting footprints.
     min_depth: Vec<f64>,
+    /// Largest width + depth of each item among its fitting footprints (the contact bound of
+    /// an unplaced item), computed once: the bound is evaluated at every x-node.
+    max_sides: Vec<f64>,
+    /// The items by least depth, deepest first (ties in index order).
+    by_depth: Vec<usize>,
+    /// Scratch buffers of [`Self::capacity_refutes`].
+    buf_ends: Vec<(f64, f64)>,
+    buf_pieces: Vec<(f64, f64)>,
     /// First item of the largest class, kept in the lower-left quarter (mirror symmetry).
     anchor: Option<usize>,
     /// Per item: chosen footprint and left edge in the x-phase.
@@ -33,7 +73,7 @@ pub struct Search<'a> {
     y0: Vec<f64>,
     /// x-phase states (position, placed set, free-depth profile ahead) proven to have no
     /// complete x-assignment, with the least waste at which that was shown.
-    dead: HashMap<StateKey, (f64, f64)>,
+    dead: HashMap<StateKey, (f64, f64), BuildHasherDefault<FxHasher>>,
     /// Complete x-assignments handed to the y-phase so far.
     yleaves: u64,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
@@ -69,7 +109,9 @@ impl<'a> Search<'a> {
     /// something on their left and below among them) into `visit`. With `bound`, only packings
     /// whose contact length (objects, the walls x = 0 and y = 0, and the far walls where `far`
     /// says the box reaches them) may exceed it are guaranteed to be visited; the visitor may
-    /// raise it. Returns whether the enumeration finished (`false`: stopped by `stop`).
+    /// raise it. `meter`: a node count kept up to date ([`Search::metered`]). Returns whether
+    /// the enumeration finished (`false`: stopped by `stop`) and the nodes visited.
+    #[allow(clippy::too_many_arguments)] // each is one independent input of the enumeration
     pub fn enumerate(
         items: &'a [Item],
         w: f64,
@@ -78,8 +120,9 @@ impl<'a> Search<'a> {
         visit: &'a mut Visitor<'a>,
         bound: Option<&'a Cell<f64>>,
         far: [bool; 2],
+        meter: Option<&'a Cell<u64>>,
     ) -> (bool, u64) {
-        let mut s = Search::new(items, w, d, stop);
+        let mut s = Search::new(items, w, d, stop).metered(meter);
         s.anchor = None;
         s.visit = Some(visit);
         s.cbound = bound;
@@ -103,6 +146,12 @@ impl<'a> Search<'a> {
             .iter()
             .map(|it| fitting(it, w, d).map(|g| g[1]).fold(f64::INFINITY, f64::min))
             .collect();
+        let mut by_depth: Vec<usize> = (0..n).collect();
+        by_depth.sort_by(|&a, &b| min_depth[b].total_cmp(&min_depth[a]));
+        let max_sides: Vec<f64> = items
+            .iter()
+            .map(|it| fitting(it, w, d).map(|g| g[0] + g[1]).fold(0.0, f64::max))
+            .collect();
         // The anchor is the first item of the class with the largest single area: mirroring
         // keeps footprints, so the bound below uses its narrowest fitting footprint.
         let anchor = (0..n)
@@ -115,17 +164,22 @@ impl<'a> Search<'a> {
             t,
             stop,
             nodes: 0,
+            meter: None,
             stopped: false,
             prev_same,
             min_area,
             min_depth,
+            max_sides,
+            by_depth,
+            buf_ends: Vec::new(),
+            buf_pieces: Vec::new(),
             anchor,
             opt: vec![0; n],
             x0: vec![0.0; n],
             placed: vec![false; n],
             y0: vec![0.0; n],
             visit: None,
-            dead: HashMap::new(),
+            dead: HashMap::default(),
             yleaves: 0,
             dead_enabled: true,
             cbound: None,
@@ -193,10 +247,22 @@ impl<'a> Search<'a> {
 
     fn tick(&mut self) -> bool {
         self.nodes += 1;
-        if self.nodes & 1023 == 0 && (self.stop)() {
-            self.stopped = true;
+        if self.nodes & 1023 == 0 {
+            if let Some((m, base)) = self.meter {
+                m.set(base + self.nodes);
+            }
+            if (self.stop)() {
+                self.stopped = true;
+            }
         }
         self.stopped
+    }
+
+    /// Keep `meter` at its current value plus this search's nodes, at every stop poll (the
+    /// caller adds the final count when the search returns).
+    pub fn metered(mut self, meter: Option<&'a Cell<u64>>) -> Self {
+        self.meter = meter.map(|m| (m, m.get()));
+        self
     }
 
     fn dims(&self, i: usize) -> [f64; 2] {
@@ -216,16 +282,20 @@ impl<'a> Search<'a> {
     /// Free depth from `t` on, column by column: an object of depth `h` fits only in columns
     /// with at least `h` free, so the objects of least depth at least `h` (their least areas)
     /// must fit in those columns' free area, for every such `h`.
-    fn capacity_refutes(&self, t: f64) -> bool {
+    fn capacity_refutes(&mut self, t: f64) -> bool {
+        // Buffers kept between calls: this runs at every x-node.
+        let (mut ends, mut pieces) = (std::mem::take(&mut self.buf_ends), std::mem::take(&mut self.buf_pieces));
+        ends.clear();
+        pieces.clear();
         let n = self.items.len();
-        let mut ends: Vec<(f64, f64)> = (0..n)
-            .filter(|&j| self.placed[j])
-            .map(|j| (self.x0[j] + self.dims(j)[0], self.dims(j)[1]))
-            .filter(|&(e, _)| e > t + self.t)
-            .collect();
+        ends.extend(
+            (0..n)
+                .filter(|&j| self.placed[j])
+                .map(|j| (self.x0[j] + self.dims(j)[0], self.dims(j)[1]))
+                .filter(|&(e, _)| e > t + self.t),
+        );
         ends.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut load: f64 = ends.iter().map(|e| e.1).sum();
-        let mut pieces: Vec<(f64, f64)> = Vec::with_capacity(ends.len() + 1);
         let mut x = t;
         for &(e, h) in &ends {
             pieces.push((e - x, self.d - load));
@@ -233,19 +303,22 @@ impl<'a> Search<'a> {
             x = e;
         }
         pieces.push((self.w - x, self.d));
-        let mut rem: Vec<usize> = (0..n).filter(|&i| !self.placed[i]).collect();
-        rem.sort_by(|&a, &b| self.min_depth[b].total_cmp(&self.min_depth[a]));
         let tol = self.t * (self.w + self.d);
         let mut area = 0.0;
-        for &i in &rem {
+        let mut refuted = false;
+        // The unplaced items, deepest first (`by_depth` is that order over all items).
+        for &i in self.by_depth.iter().filter(|&&i| !self.placed[i]) {
             area += self.min_area[i];
             let h = self.min_depth[i];
             let avail: f64 = pieces.iter().filter(|p| p.1 >= h - self.t).map(|p| p.0 * p.1).sum();
             if area > avail + tol {
-                return true;
+                refuted = true;
+                break;
             }
         }
-        false
+        self.buf_ends = ends;
+        self.buf_pieces = pieces;
+        refuted
     }
 
     /// Contact-length upper bound in the x-phase: every side in full contact except the
@@ -258,9 +331,7 @@ impl<'a> Search<'a> {
                     let f = self.dims(i);
                     f[0] + f[1]
                 } else {
-                    fitting(&self.items[i], self.w, self.d)
-                        .map(|g| g[0] + g[1])
-                        .fold(0.0, f64::max)
+                    self.max_sides[i]
                 }
             })
             .sum();
@@ -276,8 +347,10 @@ impl<'a> Search<'a> {
             return false;
         }
         let n = self.items.len();
+        // The contact bound of this node: for the cut here and for the memo below.
+        let ub = if self.cbound.is_some() { self.contact_ub() } else { 0.0 };
         if let Some(cb) = self.cbound {
-            if self.contact_ub() <= cb.get() + 1e-9 {
+            if ub <= cb.get() + 1e-9 {
                 self.cpruned += 1;
                 return false;
             }
@@ -300,7 +373,6 @@ impl<'a> Search<'a> {
         // ending at `t` (put in the key) and on the contact bound of the placed part; the bound
         // to beat only rises, so a subtree cut at some contact bound is cut again at no more.
         let key = (min_idx == 0 && self.dead_enabled).then(|| self.state_key(t));
-        let ub = if self.cbound.is_some() { self.contact_ub() } else { 0.0 };
         if let Some(k) = &key {
             if self
                 .dead
@@ -361,6 +433,21 @@ impl<'a> Search<'a> {
             .map(|j| self.dims(j)[1])
             .sum();
         let cap = self.d - load;
+        // Right sides ending at `t` not yet taken by the left sides of the items placed at `t`:
+        // the same for every branch here (each child restores what it places).
+        let free_ends = if t <= self.t {
+            f64::INFINITY
+        } else {
+            let (mut ends, mut starts) = (0.0, 0.0);
+            for j in (0..n).filter(|&j| self.placed[j]) {
+                if (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t {
+                    ends += self.dims(j)[1];
+                } else if (self.x0[j] - t).abs() <= self.t {
+                    starts += self.dims(j)[1];
+                }
+            }
+            f64::max(ends - starts, 0.0)
+        };
         for i in min_idx..n {
             if self.placed[i] || self.prev_same[i].is_some_and(|p| !self.placed[p]) {
                 continue;
@@ -376,19 +463,7 @@ impl<'a> Search<'a> {
                 // Its left side touches only objects ending at `t` (all placed) or the wall; the
                 // objects starting at `t` share the right sides of those ending there, so what
                 // the ones placed at `t` before it took is not left for it.
-                let left = if t <= self.t {
-                    f[1]
-                } else {
-                    let (mut ends, mut starts) = (0.0, 0.0);
-                    for j in (0..n).filter(|&j| self.placed[j]) {
-                        if (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t {
-                            ends += self.dims(j)[1];
-                        } else if (self.x0[j] - t).abs() <= self.t {
-                            starts += self.dims(j)[1];
-                        }
-                    }
-                    f64::max(ends - starts, 0.0).min(f[1])
-                };
+                let left = free_ends.min(f[1]);
                 self.placed[i] = true;
                 self.opt[i] = k;
                 self.x0[i] = t;
