@@ -1,7 +1,7 @@
 //! Live progress of `pushpack plan` on stderr, and Ctrl+C as a clean stop.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pushpack::control::{CancelFlag, Event, Listener};
+use pushpack::control::{CancelFlag, Event, Listener, Stage};
 use std::time::Duration;
 
 /// A spinner naming the running stage and its budget, with the search's nodes, best plan and
@@ -46,13 +46,18 @@ impl Listener for Progress {
                 self.bar.set_message(self.stage.clone());
             }
             Event::Progress {
+                stage,
                 nodes,
                 incumbent,
                 bound,
-                ..
             } => {
-                let plan = incumbent.map_or("no plan yet".to_string(), |o| format!("best {o}"));
-                let bound = bound.map_or(String::new(), |b| format!(", bound {b}"));
+                // Placement objectives are areas in m²: shown in cm², as the summary does.
+                let show = |v: f64| match stage {
+                    Stage::Placement => format!("{:.1} cm²", v * 1e4),
+                    _ => format!("{v}"),
+                };
+                let plan = incumbent.map_or("no solution yet".to_string(), |o| format!("best {}", show(o)));
+                let bound = bound.map_or(String::new(), |b| format!(", bound {}", show(b)));
                 self.bar
                     .set_message(format!("{}: {nodes} nodes, {plan}{bound}", self.stage));
             }
@@ -64,9 +69,13 @@ impl Listener for Progress {
                 objective,
                 bound,
             } => {
+                let show = |v: f64| match stage {
+                    Stage::Placement => format!("{:.1} cm²", v * 1e4),
+                    _ => format!("{v}"),
+                };
                 let figures = match (objective, bound) {
-                    (Some(o), Some(b)) => format!(", objective {o:.6}, bound {b:.6}"),
-                    (Some(o), None) => format!(", objective {o:.6}"),
+                    (Some(o), Some(b)) => format!(", objective {}, bound {}", show(*o), show(*b)),
+                    (Some(o), None) => format!(", objective {}", show(*o)),
                     _ => String::new(),
                 };
                 self.bar.println(format!(
