@@ -136,15 +136,17 @@ pub enum Event {
         bound: Option<f64>,
     },
     /// A search inside a stage is under way: at most one every [`PROGRESS_INTERVAL`], from the
-    /// sequencers (A* and the paper's, [`crate::sequence::paper::solve_with`]) and the exact
-    /// placement (both of its stages; Bottom-Left reports only its stage's start and finish).
+    /// sequencers (A* and the paper's, [`crate::sequence::paper::solve_with`]), the exact
+    /// placement (both of its stages; Bottom-Left reports only its stage's start and finish)
+    /// and the joint plan ([`crate::plan::build_plan_with`]).
     Progress {
         /// The stage.
         stage: Stage,
         /// Search nodes so far, never decreasing (sequence: A* expansions, 0 while A* still
         /// proves its lower bound on the number of actions, before the main search; the paper
         /// sequencer's assignments of Algorithm 1, then plus its depth-first nodes; placement:
-        /// nodes of the packing searches and HiGHS, the warm start's included).
+        /// nodes of the packing searches and HiGHS, the warm start's included; motion: actions
+        /// whose joint trajectories are planned).
         nodes: u64,
         /// The best solution's objective so far, when there is one (sequence: number of
         /// actions; placement: occupied area, m², also during the contact stage, which keeps

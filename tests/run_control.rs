@@ -206,3 +206,53 @@ fn the_paper_sequencer_reports_its_progress_and_no_bound() {
         assert_eq!(bound, None, "the paper sequencer proves no bound");
     }
 }
+
+/// The joint plan reports too: `nodes` counts the actions with trajectories, rising to the
+/// plan's length, never past it.
+#[test]
+fn the_joint_plan_reports_the_actions_it_has_planned() {
+    let inst = common::load("paper/exp2_8objects.toml");
+    let o = PlanOptions::from_instance(&inst);
+    let mut events = Recorder::default();
+    let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events).expect("exp2 plans");
+    let actions = out.plan.actions.len() as u64;
+    let motion_s = events
+        .0
+        .iter()
+        .find_map(|e| match e {
+            Event::StageFinished {
+                stage: Stage::Motion,
+                time_s,
+                ..
+            } => Some(*time_s),
+            _ => None,
+        })
+        .expect("the motion stage finishes");
+    let planned: Vec<u64> = events
+        .0
+        .iter()
+        .filter_map(|e| match e {
+            Event::Progress {
+                stage: Stage::Motion,
+                nodes,
+                incumbent,
+                bound,
+            } => {
+                assert_eq!((incumbent, bound), (&None, &None), "the joint plan optimises nothing");
+                Some(*nodes)
+            }
+            _ => None,
+        })
+        .collect();
+    // The first event is due one interval after the stage starts.
+    if motion_s > 2.0 * PROGRESS_INTERVAL.as_secs_f64() {
+        assert!(!planned.is_empty(), "{motion_s:.2} s of joint planning without a word");
+    }
+    assert!(planned.windows(2).all(|w| w[0] <= w[1]), "{planned:?}");
+    assert!(
+        planned.iter().all(|&k| k <= actions),
+        "{planned:?} of {actions} actions"
+    );
+    let r = verify(&inst, &out.plan);
+    assert!(r.is_executable(), "{r}");
+}

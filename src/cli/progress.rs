@@ -56,6 +56,10 @@ impl Listener for Progress {
                     Stage::Placement => format!("{:.1} cm²", v * 1e4),
                     _ => format!("{v}"),
                 };
+                if *stage == Stage::Motion {
+                    self.bar.set_message(format!("{}: {nodes} actions planned", self.stage));
+                    return;
+                }
                 let plan = incumbent.map_or("no solution yet".to_string(), |o| format!("best {}", show(o)));
                 let bound = bound.map_or(String::new(), |b| format!(", bound {}", show(b)));
                 self.bar

@@ -13,5 +13,5 @@ pub mod keypoints;
 pub mod reach_cache;
 pub mod trajectory;
 
-pub use joint_plan::{action_reachable, arms_reaching, plan_trajectories, select_arm};
+pub use joint_plan::{action_reachable, arms_reaching, plan_trajectories, plan_trajectories_with, select_arm};
 pub use trajectory::{ActionTrajectory, KeyPose, RobotInfo, TrajPoint, TrajectoryOptions};

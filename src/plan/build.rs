@@ -4,6 +4,7 @@
 use super::file::*;
 use super::{placement_status, sequence_status, PlanOptions};
 use crate::actions::{Action, PlaceMode};
+use crate::control::{Event, Listener, Silent, Stage, Ticker};
 use crate::geometry::Arm;
 use crate::instance::Instance;
 use crate::motion::keypoints::{action_keypoints, path_length};
@@ -13,10 +14,35 @@ use crate::status::Status;
 
 /// Assemble the plan file from stage results.
 pub fn build_plan(inst: &Instance, opts: &PlanOptions, pr: &PlacementResult, sr: &SequenceResult) -> Plan {
+    build_plan_with(inst, opts, pr, sr, &mut Silent)
+}
+
+/// [`build_plan`], telling `listener` how the joint plan goes: [`Event::Progress`] with stage
+/// [`Stage::Motion`] and `nodes` = actions planned so far, at most every
+/// [`crate::control::PROGRESS_INTERVAL`].
+pub fn build_plan_with(
+    inst: &Instance,
+    opts: &PlanOptions,
+    pr: &PlacementResult,
+    sr: &SequenceResult,
+    listener: &mut dyn Listener,
+) -> Plan {
     let p = &pr.placement;
     let placements = placement_entries(inst, p);
     let actions = action_entries(inst, p, sr);
-    let (robot, trajectories) = crate::motion::plan_trajectories(inst, p, &sr.actions, &opts.trajectory);
+    let mut ticker = Ticker::new();
+    let mut planned = |k: usize| {
+        if ticker.due() {
+            listener.event(&Event::Progress {
+                stage: Stage::Motion,
+                nodes: k as u64,
+                incumbent: None,
+                bound: None,
+            });
+        }
+    };
+    let (robot, trajectories) =
+        crate::motion::plan_trajectories_with(inst, p, &sr.actions, &opts.trajectory, &mut planned);
     let placement_status = placement_status(pr);
     let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
     Plan {

@@ -18,7 +18,7 @@ pub mod export;
 mod file;
 pub mod ros2;
 
-pub use build::build_plan;
+pub use build::{build_plan, build_plan_with};
 pub use file::*;
 
 /// Which placement solver to run.
@@ -420,7 +420,7 @@ fn outcome(
         budget_s: 0.0,
     });
     let start = std::time::Instant::now();
-    let mut plan = build_plan(inst, opts, &placement, &sequence);
+    let mut plan = build_plan_with(inst, opts, &placement, &sequence, listener);
     plan.placement.alternative = alternative;
     // A search the caller cancelled says so, not "time limit": the run did not run out of time.
     if sequence.status != SearchStatus::Complete && stop.should_stop() {

@@ -164,6 +164,18 @@ pub fn plan_trajectories(
     actions: &[Action],
     opts: &TrajectoryOptions,
 ) -> (RobotInfo, Vec<ActionTrajectory>) {
+    plan_trajectories_with(inst, placement, actions, opts, &mut |_| {})
+}
+
+/// [`plan_trajectories`], calling `planned(k)` once the first `k` actions have their
+/// trajectories (a live display's pulse: a 20-object plan takes seconds here).
+pub fn plan_trajectories_with(
+    inst: &Instance,
+    placement: &Placement,
+    actions: &[Action],
+    opts: &TrajectoryOptions,
+    planned: &mut dyn FnMut(usize),
+) -> (RobotInfo, Vec<ActionTrajectory>) {
     let model = &inst.robot.model;
     let mut q_cur = inst.robot.home;
     let mut hand_cur = [Hand {
@@ -191,6 +203,7 @@ pub fn plan_trajectories(
         error: None,
     };
     for (k, action) in actions.iter().enumerate() {
+        planned(k);
         let arm = action.arm();
         let other = arm.other();
         let label = action_label(inst, action);
@@ -355,6 +368,7 @@ pub fn plan_trajectories(
             }
         }
     }
+    planned(actions.len());
     let mut info = robot_info(inst, opts);
     info.execution_time_s = out.iter().map(|r| r.t_end).reduce(f64::max);
     (info, out)
