@@ -272,6 +272,11 @@ pub struct AreaOptions<'a> {
 
 /// Run the area stage. `warm`: a placement to start from (ignored unless valid); `stop`: polled
 /// between and inside searches.
+///
+/// Long on purpose: one loop over the enclosing boxes in area order, whose state (incumbent,
+/// proven bound, trace, ties still open, the budget for a first packing) every branch updates
+/// together. Deciding one box is `decide`'s job and the packing search is [`super::opp`]'s;
+/// what stays here is the order of the boxes and that shared state.
 pub fn solve(
     inst: &Instance,
     fps: &[Footprints],

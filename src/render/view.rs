@@ -284,6 +284,12 @@ pub fn view_html(inst: &Instance, plan: &Plan) -> Result<String> {
         frames.push_str("]]");
     }
 
+    Ok(page(inst, plan, end, &statics, &frames))
+}
+
+/// The page around the frames: the colours of the object kinds and the cell, the trajectory
+/// labels for the caption, the data as JSON inside the script.
+fn page(inst: &Instance, plan: &Plan, end: f64, statics: &str, frames: &str) -> String {
     let mut colours: Vec<String> = (0..10)
         .map(|k| {
             let i = inst.objects.iter().position(|o| o.kind % 10 == k).unwrap_or(0);
@@ -305,9 +311,8 @@ pub fn view_html(inst: &Instance, plan: &Plan) -> Result<String> {
     // `<` escaped inside the script, so that no id (`</script>`) can end it; the title first,
     // so that no name in the data is taken for the title's slot.
     let data = data.replace('<', "\\u003c");
-    Ok(PAGE
-        .replace("{{TITLE}}", &html_escape(&inst.name))
-        .replace("/*DATA*/null", &data))
+    PAGE.replace("{{TITLE}}", &html_escape(&inst.name))
+        .replace("/*DATA*/null", &data)
 }
 
 fn json_string(s: &str) -> String {

@@ -169,6 +169,11 @@ pub fn plan_trajectories(
 
 /// [`plan_trajectories`], calling `planned(k)` once the first `k` actions have their
 /// trajectories (a live display's pulse: a 20-object plan takes seconds here).
+///
+/// Long on purpose: the arms' state (configurations, hands, where every object is, the clock)
+/// threads through every action in order, with the park-and-retry of an idle arm in the way and
+/// the final moves home. Each motion is a call (`plan_action`, `home_move`, `time_legs`); what
+/// stays here is that state.
 pub fn plan_trajectories_with(
     inst: &Instance,
     placement: &Placement,

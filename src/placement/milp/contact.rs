@@ -133,6 +133,10 @@ pub(super) fn grid_contact_stage(
 
 /// Second stage: maximise contact length inside the extents of `p`, BL-stable, warm-started
 /// with `p`. Returns the placement, whether it is proven optimal, and HiGHS nodes.
+///
+/// Long on purpose: it writes one MILP in one pass over the objects (wall contacts, pair
+/// contacts with their indicators, Bottom-Left stability, the warm start), as
+/// [`super::model`] does for the area model; the pieces share the column bookkeeping.
 pub(super) fn contact_stage(
     inst: &Instance,
     fps: &[Footprints],

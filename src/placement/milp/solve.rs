@@ -91,6 +91,11 @@ pub fn solve_report(
 /// with the nodes so far (the warm start's included), the incumbent's occupied area (m²) and the
 /// proven lower bound on it, at most one per [`crate::control::PROGRESS_INTERVAL`], from inside
 /// the packing searches of both stages. The bound only rises and never passes the incumbent.
+///
+/// Long on purpose: the area stage, then one contact stage per optimal extent (enumeration
+/// first, a MILP with what is left), under one deadline, one node meter and one report. Each
+/// part is a call ([`area::solve`], [`area::max_contact`], `grid_contact_stage`,
+/// `contact_stage`); what stays here is the budget and the bookkeeping between them.
 pub fn solve_listen(
     inst: &Instance,
     warm: &PlacementResult,
