@@ -509,7 +509,15 @@ fn straight_line_pushes_stay_within_one_millimetre() {
 /// 0.05 mm between waypoints; the smoothing averages the waypoint polyline over 0.1 s).
 #[test]
 fn straight_cartesian_moves_stay_straight_after_smoothing() {
-    const LINES: [&str; 7] = ["grasp", "lift", "release", "retreat", "push-start", "push-end", "push-retreat"];
+    const LINES: [&str; 7] = [
+        "grasp",
+        "lift",
+        "release",
+        "retreat",
+        "push-start",
+        "push-end",
+        "push-retreat",
+    ];
     let (mut lines, mut worst_all) = (0, 0.0f64);
     for (inst, out) in paper_plans() {
         let m = &inst.robot.model;
@@ -530,16 +538,29 @@ fn straight_cartesian_moves_stay_straight_after_smoothing() {
                     for u in [0.0, 0.5, 1.0] {
                         let q: [f64; 6] =
                             std::array::from_fn(|j| w[0].positions[j] + u * (w[1].positions[j] - w[0].positions[j]));
-                        worst = worst.max(line_distance(&m.tcp_position(tr.arm, &q, &inst.robot.tcp_offset), &a, &b));
+                        worst = worst.max(line_distance(
+                            &m.tcp_position(tr.arm, &q, &inst.robot.tcp_offset),
+                            &a,
+                            &b,
+                        ));
                     }
                 }
-                assert!(worst < 1e-4, "{}: {}: {} leaves its line by {worst:e} m", inst.name, tr.label, k[1].label);
+                assert!(
+                    worst < 1e-4,
+                    "{}: {}: {} leaves its line by {worst:e} m",
+                    inst.name,
+                    tr.label,
+                    k[1].label
+                );
                 worst_all = worst_all.max(worst);
                 lines += 1;
             }
         }
     }
-    println!("{lines} straight moves, worst TCP distance from the line {:.4} mm", worst_all * 1e3);
+    println!(
+        "{lines} straight moves, worst TCP distance from the line {:.4} mm",
+        worst_all * 1e3
+    );
     assert!(lines > 20);
 }
 

@@ -186,7 +186,11 @@ impl<'a> Smoothed<'a> {
             if h <= 0.0 {
                 continue;
             }
-            let (p0, pm, p1) = (self.raw.pos(c[0]), self.raw.pos(0.5 * (c[0] + c[1])), self.raw.pos(c[1]));
+            let (p0, pm, p1) = (
+                self.raw.pos(c[0]),
+                self.raw.pos(0.5 * (c[0] + c[1])),
+                self.raw.pos(c[1]),
+            );
             for j in 0..6 {
                 sum[j] += h / 6.0 * (p0[j] + 4.0 * pm[j] + p1[j]);
             }
@@ -246,8 +250,8 @@ impl<'a> Smoothed<'a> {
         let mut last_extra = f64::NEG_INFINITY;
         for t in extra {
             let i = grid.partition_point(|&g| g < t);
-            let near_grid = grid.get(i).is_some_and(|g| g - t < MIN_SAMPLE_GAP)
-                || (i > 0 && t - grid[i - 1] < MIN_SAMPLE_GAP);
+            let near_grid =
+                grid.get(i).is_some_and(|g| g - t < MIN_SAMPLE_GAP) || (i > 0 && t - grid[i - 1] < MIN_SAMPLE_GAP);
             if !near_grid && t - last_extra >= MIN_SAMPLE_GAP {
                 times.push(t);
                 last_extra = t;

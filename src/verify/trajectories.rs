@@ -388,7 +388,11 @@ fn check_motion(names: &[String], points: &[TrajPoint], qs: &[[f64; 6]], lim: &L
         // Written so that a NaN time fails too.
         #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(dt > 0.0) {
-            report(0, format!("point {i}: time does not increase ({t1:.6} s after {t0:.6} s)"), &mut out);
+            report(
+                0,
+                format!("point {i}: time does not increase ({t1:.6} s after {t0:.6} s)"),
+                &mut out,
+            );
             prev = None;
             continue;
         }
