@@ -2,9 +2,10 @@
 //!
 //! Everything is re-derived from the instance and the plan file: joint names and limits, FK of
 //! every key pose against its recorded TCP pose and against the planner's key points, continuity
-//! (joint steps, and velocities and accelerations by finite differences between consecutive
-//! points, within the scaled limits; recorded velocities continuous and consistent), the straight-line pushes, the arms'
-//! start and end at home, and collisions at every point and between consecutive points.
+//! (joint steps; speeds and accelerations by finite differences between consecutive points within
+//! the scaled limits; recorded velocities continuous and consistent with the positions), the
+//! straight-line pushes, the arms' start and end at home, and collisions at every point and
+//! between consecutive points.
 
 use crate::actions::Action;
 use crate::geometry::Arm;
