@@ -323,6 +323,26 @@ mod tests {
     }
 
     #[test]
+    fn a_straight_leg_has_continuous_acceleration_and_bounded_jerk() {
+        let (v, amax) = (0.45, 0.81);
+        // A long leg (trapezoid) and a short one (triangle shorter than the window).
+        for b in [[0.9, -0.3, 0.2, 0.0, 0.4, 0.1], [0.002, 0.0, 0.001, 0.0, 0.0, 0.0]] {
+            let w = vec![[0.0; 6], b];
+            let tau = tau_of(&w, v);
+            let s = Smoothed::new(&w, &tau, amax / v, amax);
+            let h = 1e-4;
+            let n = (s.duration() / h) as usize;
+            for i in 0..n {
+                let (a0, a1) = (s.acc(i as f64 * h), s.acc((i + 1) as f64 * h));
+                for j in 0..6 {
+                    let jerk = (a1[j] - a0[j]).abs() / h;
+                    assert!(jerk <= 2.0 * amax / SMOOTHING_WINDOW * (1.0 + 1e-6), "jerk {jerk}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn a_straight_leg_stays_on_its_segment_and_a_bent_one_near_its_polyline() {
         let v = 0.45;
         let w = vec![[0.0; 6], [0.4, -0.2, 0.1, 0.0, 0.5, 0.0]];
