@@ -12,6 +12,55 @@ fn plan() -> pushpack::plan::Plan {
     optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans").plan
 }
 
+/// Finite differences over exported points `(time, positions, velocities)`: every joint's speed
+/// over every interval within `vlim` (its scaled velocity limit), the change of speed between
+/// adjacent intervals over the distance of their midpoints within `alim` (the scaled acceleration
+/// limit), and the recorded velocities continuous: they change by at most `alim · dt`. The only
+/// slack is for time stamps rounded to the nanosecond (each off by ≤ 0.5 ns).
+fn assert_finite_difference_limits(points: &[(f64, &[f64], &[f64])], vlim: &[f64], alim: f64) {
+    let n = vlim.len();
+    let mut prev: Option<(Vec<f64>, f64)> = None;
+    for w in points.windows(2) {
+        let dt = w[1].0 - w[0].0;
+        assert!(dt > 0.0, "time runs forward");
+        let fd: Vec<f64> = (0..n).map(|j| (w[1].1[j] - w[0].1[j]) / dt).collect();
+        for j in 0..n {
+            assert!(
+                fd[j].abs() <= vlim[j] * (1.0 + 1e-9 / dt) + 1e-12,
+                "joint {j}: {} rad/s over {} (dt {dt})",
+                fd[j],
+                vlim[j]
+            );
+            let jump = (w[1].2[j] - w[0].2[j]).abs();
+            assert!(
+                jump <= alim * (dt + 1e-9) * (1.0 + 1e-9) + 1e-12,
+                "joint {j}: recorded velocity jumps {jump} rad/s in {dt} s at t = {}",
+                w[1].0
+            );
+        }
+        if let Some((fp, dp)) = &prev {
+            let mid = 0.5 * (dp + dt);
+            for j in 0..n {
+                let acc = (fd[j] - fp[j]).abs() / mid;
+                let rounding = 1e-9 * (fd[j].abs() / dt + fp[j].abs() / dp) / mid;
+                assert!(
+                    acc <= alim * (1.0 + 1e-9) + rounding + 1e-9,
+                    "joint {j}: {acc} rad/s² over {alim} at t = {}",
+                    w[0].0
+                );
+            }
+        }
+        prev = Some((fd, dt));
+    }
+}
+
+/// The scaled limits of a plan: velocity limits per joint and `acceleration × scale²`.
+fn scaled_limits(plan: &pushpack::plan::Plan) -> (Vec<f64>, f64) {
+    let r = plan.robot.as_ref().unwrap();
+    let s = r.timing.velocity_scale;
+    (r.velocity_limits.clone(), r.timing.acceleration * s * s)
+}
+
 fn check_message(m: &RosJointTrajectory, arm: Arm, plan: &pushpack::plan::Plan) {
     let prefix = match arm {
         Arm::Left => "LARM",
@@ -34,6 +83,13 @@ fn check_message(m: &RosJointTrajectory, arm: Arm, plan: &pushpack::plan::Plan) 
         assert_eq!(p.velocities.len(), 6);
         assert!(p.time_from_start.nsecs >= 0 && p.time_from_start.nsecs < 1_000_000_000);
     }
+    let (vlim, alim) = scaled_limits(plan);
+    let pts: Vec<(f64, &[f64], &[f64])> = m
+        .points
+        .iter()
+        .map(|p| (p.time_from_start.as_secs(), &p.positions[..], &p.velocities[..]))
+        .collect();
+    assert_finite_difference_limits(&pts, &vlim, alim);
     // Every point of the arm's trajectories is in the message (bar duplicates at the joins).
     let pts: Vec<_> = plan
         .trajectories
@@ -145,6 +201,14 @@ struct Duration {
     nanosec: u32,
 }
 
+/// The goal's points as (time, positions, velocities).
+fn goal_points(t: &JointTrajectory) -> Vec<(f64, &[f64], &[f64])> {
+    t.points
+        .iter()
+        .map(|p| (p.time_from_start.secs(), &p.positions[..], &p.velocities[..]))
+        .collect()
+}
+
 impl Duration {
     fn secs(&self) -> f64 {
         self.sec as f64 + self.nanosec as f64 * 1e-9
@@ -249,20 +313,11 @@ fn ros2_goal_for_both_arms_with_gripper_commands_parses_as_the_message_definitio
         assert!(p.accelerations.is_empty() && p.effort.is_empty());
         assert!(p.time_from_start.nanosec < 1_000_000_000);
     }
-    let limits = plan.robot.as_ref().unwrap().velocity_limits.clone();
-    for w in t.points.windows(2) {
-        let dt = w[1].time_from_start.secs() - w[0].time_from_start.secs();
-        assert!(dt > 0.0, "time runs forward");
-        for j in 0..t.joint_names.len() {
-            let v = (w[1].positions[j] - w[0].positions[j]).abs() / dt;
-            // Durations are rounded to the nanosecond: allow what 1 ns of `dt` changes.
-            assert!(
-                v <= limits[j % 6] * (1.0 + 1e-9 / dt) + 1e-12,
-                "joint {j}: {v} rad/s over {} (dt {dt})",
-                limits[j % 6]
-            );
-        }
-    }
+    // Speeds and accelerations by finite differences within the scaled limits, velocities
+    // continuous, on the goal as a controller receives it (both arms' columns).
+    let (vlim, alim) = scaled_limits(&plan);
+    let vlim: Vec<f64> = (0..t.joint_names.len()).map(|j| vlim[j % 6]).collect();
+    assert_finite_difference_limits(&goal_points(t), &vlim, alim);
     // Each arm's own points are on the goal, in its six columns.
     for (k, &arm) in moving.iter().enumerate() {
         for tr in plan.trajectories.iter().filter(|tr| tr.arm == arm) {
@@ -330,13 +385,11 @@ fn speed_scale_keeps_trajectories_and_the_export_below_the_scaled_limits() {
     export(&plan, ExportFormat::Ros2Goal, dir.path()).unwrap();
     let goal: FollowJointTrajectoryGoal =
         serde_norway::from_str(&std::fs::read_to_string(dir.path().join("both_arms_goal.yaml")).unwrap()).unwrap();
-    for w in goal.trajectory.points.windows(2) {
-        let dt = w[1].time_from_start.secs() - w[0].time_from_start.secs();
-        for j in 0..goal.trajectory.joint_names.len() {
-            let v = (w[1].positions[j] - w[0].positions[j]).abs() / dt;
-            assert!(v <= 0.25 * (1.0 + 1e-9 / dt) + 1e-12, "joint {j}: {v} rad/s (dt {dt})");
-        }
-    }
+    // 0.5 × 0.5 rad/s and 0.5² × 1 rad/s², by finite differences over the goal's points.
+    let t = &goal.trajectory;
+    let vlim = vec![0.25; t.joint_names.len()];
+    assert_eq!(robot.timing.acceleration, 1.0);
+    assert_finite_difference_limits(&goal_points(t), &vlim, 0.25);
     // The default plan of the same instance is faster: the scale is not ignored. (The speed
     // scale is one of the run's options, `trajectory.velocity_scale`, which `from_instance`
     // takes from `robot.speed_scale`: the default plan needs the default instance's options.)

@@ -43,6 +43,29 @@ fn add(v: &mut Value, by: f64) {
     *v = json!(v.as_f64().unwrap() + by);
 }
 
+/// A point of trajectory `t` in the middle of a motion: not at a key pose's time, not an end,
+/// and at most one sampling step from both neighbours (not beside a gripper's dwell).
+fn inner_point(plan: &Value, t: usize) -> usize {
+    let tr = &plan["trajectories"][t];
+    let pts = tr["points"].as_array().unwrap();
+    let time = |i: usize| pts[i]["t"].as_f64().unwrap();
+    let key_times: Vec<f64> = tr["key_poses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k["t"].as_f64().unwrap())
+        .collect();
+    let dt = plan["robot"]["timing"]["sample_dt"].as_f64().unwrap();
+    (pts.len() / 2..pts.len() - 1)
+        .chain(1..pts.len() / 2)
+        .find(|&i| {
+            key_times.iter().all(|k| (k - time(i)).abs() > 1e-6)
+                && time(i) - time(i - 1) <= dt + 1e-9
+                && time(i + 1) - time(i) <= dt + 1e-9
+        })
+        .expect("a trajectory has inner points")
+}
+
 fn mutations(plan: &Value) -> Vec<Mutation> {
     let n_actions = plan["actions"].as_array().unwrap().len();
     let n_traj = plan["trajectories"].as_array().unwrap().len();
@@ -196,6 +219,40 @@ fn mutations(plan: &Value) -> Vec<Mutation> {
                 pt["t"] = json!(x / 10.0);
             }
         }));
+        // Timing within the URDF's limits but not within the plan's own (scaled) ones, and
+        // recorded velocities that are not those of the positions.
+        let i = inner_point(plan, t);
+        let vel: Vec<f64> = plan["trajectories"][t]["points"][i]["velocities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let j = (0..6).min_by(|&a, &b| vel[a].abs().total_cmp(&vel[b].abs())).unwrap();
+        assert!(vel[j].abs() + 0.2 < 0.45, "the jump stays below the velocity limit");
+        v.push(m(
+            &format!("trajectory {t}: a recorded velocity jumps 0.2 rad/s at one point"),
+            move |p| add(&mut p["trajectories"][t]["points"][i]["velocities"][j], 0.2),
+        ));
+        v.push(m(
+            &format!("trajectory {t}: a joint moved 5 mrad at one point"),
+            move |p| add(&mut p["trajectories"][t]["points"][i]["positions"][j], 0.005),
+        ));
+        v.push(m(
+            &format!("trajectory {t}: 5 % faster, key poses along, velocities as recorded"),
+            move |p| {
+                let tr = &mut p["trajectories"][t];
+                let t0 = tr["t_start"].as_f64().unwrap();
+                let faster = |x: &mut Value| *x = json!(t0 + (x.as_f64().unwrap() - t0) / 1.05);
+                faster(&mut tr["t_end"]);
+                for pt in tr["points"].as_array_mut().unwrap() {
+                    faster(&mut pt["t"]);
+                }
+                for kp in tr["key_poses"].as_array_mut().unwrap() {
+                    faster(&mut kp["t"]);
+                }
+            },
+        ));
         v.push(m(&format!("trajectory {t}: the other arm"), move |p| {
             let a = &mut p["trajectories"][t]["arm"];
             *a = json!(if a == "left" { "right" } else { "left" });
@@ -219,6 +276,10 @@ fn mutations(plan: &Value) -> Vec<Mutation> {
     }));
     v.push(m("the robot's velocity limits raised", |p| {
         p["robot"]["velocity_limits"] = json!(vec![10.0; 6]);
+    }));
+    v.push(m("the robot's acceleration limit halved", |p| {
+        let a = p["robot"]["timing"]["acceleration"].as_f64().unwrap();
+        p["robot"]["timing"]["acceleration"] = json!(0.5 * a);
     }));
     v.push(m("the robot's execution time understated", |p| {
         add(&mut p["robot"]["execution_time_s"], -10.0)

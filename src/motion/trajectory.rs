@@ -5,9 +5,13 @@
 //! speed (every piece between two waypoints is run so that its fastest joint moves at its velocity
 //! limit): τ̇ ≤ 1 keeps every joint within `velocity_scale × v_max`, τ̈ ≤ α with
 //! α = a_max·velocity_scale² / max_j(v_j·velocity_scale) keeps every joint's tangential
-//! acceleration within `velocity_scale² × a_max`. The segment is then sampled every ≤ `sample_dt`
-//! seconds (positions interpolated linearly between the waypoints, velocities from the profile).
+//! acceleration within `velocity_scale² × a_max`. That law's velocity jumps at every bend of the
+//! polyline, so what is recorded is its moving average ([`super::profile`]): continuous velocity,
+//! every joint's acceleration within `velocity_scale² × a_max`, straight joint moves exactly on
+//! their segment. The segment is sampled every ≤ `sample_dt` seconds and where the averaging
+//! window is centred on a waypoint, with positions and velocities of the smoothed law.
 
+use super::profile::Smoothed;
 use crate::geometry::Arm;
 use serde::{Deserialize, Serialize};
 
@@ -126,7 +130,13 @@ pub struct ActionTrajectory {
 }
 
 /// Time a rest-to-rest path through `waypoints` starting at `t0`; returns the points (the first
-/// at `t0`) and the end time. `vmax` are the (scaled) joint velocity limits.
+/// at `t0`) and the end time. `vmax` are the (unscaled) joint velocity limits.
+///
+/// The path parameter τ runs each piece between two waypoints with its fastest joint at
+/// `velocity_scale × vmax`; a trapezoid on τ with tangential acceleration α =
+/// a·s² / max_j(v_j·s) times it, and [`super::profile`] smooths that law so that the velocity is
+/// continuous and every joint's acceleration stays within a·s² (slowing the leg down where the
+/// bends of a sampled line need it). Points carry positions and velocities of the smoothed law.
 pub fn time_segment(
     waypoints: &[[f64; 6]],
     vmax: &[f64; 6],
@@ -143,76 +153,30 @@ pub fn time_segment(
         let d = (0..6).map(|j| (w[1][j] - w[0][j]).abs() / vm[j]).fold(0.0, f64::max);
         tau.push(tau.last().unwrap() + d);
     }
-    let l = *tau.last().unwrap();
-    let rest = |t: f64| TrajPoint {
+    let rest = |t: f64, q: &[f64; 6]| TrajPoint {
         t,
-        positions: waypoints[0].to_vec(),
+        positions: q.to_vec(),
         velocities: vec![0.0; 6],
     };
-    if l <= 1e-12 {
-        return (vec![rest(t0)], t0);
+    if *tau.last().unwrap() <= 1e-12 {
+        return (vec![rest(t0, &waypoints[0])], t0);
     }
-    // Trapezoid on τ with rate ≤ 1, acceleration ≤ alpha.
-    let (peak, ta, dur) = if l * alpha >= 1.0 {
-        (1.0, 1.0 / alpha, l + 1.0 / alpha)
-    } else {
-        let p = (alpha * l).sqrt();
-        (p, p / alpha, 2.0 * p / alpha)
-    };
-    let profile = |t: f64| -> (f64, f64) {
-        if t <= ta {
-            (0.5 * alpha * t * t, alpha * t)
-        } else if t >= dur - ta {
-            let r = (dur - t).max(0.0);
-            (l - 0.5 * alpha * r * r, alpha * r)
-        } else {
-            (0.5 * alpha * ta * ta + peak * (t - ta), peak)
-        }
-    };
-    // Time at which the path parameter reaches x (inverse of the profile).
-    let xa = 0.5 * alpha * ta * ta;
-    let time_at = |x: f64| -> f64 {
-        if x <= xa {
-            (2.0 * x / alpha).sqrt()
-        } else if x >= l - xa {
-            dur - (2.0 * (l - x).max(0.0) / alpha).sqrt()
-        } else {
-            ta + (x - xa) / peak
-        }
-    };
-    // Samples every ≤ sample_dt, plus one at every waypoint: a controller interpolates between
-    // points, and without the waypoints it would cut the corners of the planned (collision-checked)
-    // path.
-    let n = (dur / opts.sample_dt).ceil().max(1.0) as usize;
-    let mut times: Vec<f64> = (0..=n).map(|i| dur * i as f64 / n as f64).collect();
-    times.extend(tau[1..tau.len() - 1].iter().map(|&x| time_at(x).clamp(0.0, dur)));
-    times.sort_by(f64::total_cmp);
-    times.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-    let mut out = Vec::with_capacity(times.len());
-    let mut k = 0;
+    let law = Smoothed::new(waypoints, &tau, alpha, amax);
+    let times = law.sample_times(opts.sample_dt);
     let last = times.len() - 1;
-    for (i, &t) in times.iter().enumerate() {
-        let (x, rate) = if i == last { (l, 0.0) } else { profile(t) };
-        while k + 2 < tau.len() && x > tau[k + 1] {
-            k += 1;
-        }
-        let span = (tau[k + 1] - tau[k]).max(1e-300);
-        let u = ((x - tau[k]) / span).clamp(0.0, 1.0);
-        let (a, b) = (&waypoints[k], &waypoints[k + 1]);
-        let positions: Vec<f64> = (0..6).map(|j| a[j] + u * (b[j] - a[j])).collect();
-        let velocities: Vec<f64> = (0..6)
-            .map(|j| if span > 1e-12 { (b[j] - a[j]) / span * rate } else { 0.0 })
-            .collect();
-        out.push(TrajPoint {
-            t: t0 + t,
-            positions,
-            velocities,
-        });
-    }
-    // Exact end.
-    if let Some(last) = out.last_mut() {
-        last.positions = waypoints.last().unwrap().to_vec();
-        last.velocities = vec![0.0; 6];
-    }
-    (out, t0 + dur)
+    let out = times
+        .iter()
+        .enumerate()
+        .map(|(i, &t)| match i {
+            // Exact ends, at rest.
+            0 => rest(t0, &waypoints[0]),
+            _ if i == last => rest(t0 + t, waypoints.last().unwrap()),
+            _ => TrajPoint {
+                t: t0 + t,
+                positions: law.pos(t).to_vec(),
+                velocities: law.vel(t).to_vec(),
+            },
+        })
+        .collect();
+    (out, t0 + law.duration())
 }

@@ -2,14 +2,17 @@
 //!
 //! Everything is re-derived from the instance and the plan file: joint names and limits, FK of
 //! every key pose against its recorded TCP pose and against the planner's key points, continuity
-//! (joint steps and velocities between consecutive points), the straight-line pushes, the arms'
-//! start and end at home, and collisions at every point and between consecutive points.
+//! (joint steps; speeds and accelerations by finite differences between consecutive points within
+//! the scaled limits; recorded velocities continuous and consistent with the positions), the
+//! straight-line pushes, the arms' start and end at home, and collisions at every point and
+//! between consecutive points.
 
 use crate::actions::Action;
 use crate::geometry::Arm;
 use crate::instance::Instance;
 use crate::motion::joint_plan::{apply_action, collision_at, idle_arm, line_distance, segment_hand, ObjAt, LINE_LIMIT};
 use crate::motion::keypoints::action_keypoints;
+use crate::motion::trajectory::TrajPoint;
 use crate::plan::Plan;
 use crate::robot::ik::{max_abs_diff, pose_residual};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
@@ -95,6 +98,21 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
             out.push((Some(k), format!("{n} joint trajectories for this action (expected 1)")));
         }
     }
+    // The limits the plan was timed with (`verify::claims` checks that the scale is in (0, 1]
+    // and that the recorded velocity limits are the model's times it).
+    let timing = plan.robot.as_ref().map(|r| r.timing).unwrap_or_default();
+    let scale = timing.velocity_scale;
+    let acceleration = timing.acceleration * scale * scale;
+    if !(scale.is_finite() && scale > 0.0 && scale <= 1.0 && acceleration.is_finite() && acceleration > 0.0) {
+        out.push((
+            None,
+            format!(
+                "robot.timing: velocity scale {scale} and acceleration {} rad/s² must be in (0, 1] and positive",
+                timing.acceleration
+            ),
+        ));
+        return out;
+    }
     let mut q_cur = inst.robot.home;
     let mut opening = [0.0f64; 2];
     let mut at = vec![ObjAt::Table; inst.n()];
@@ -162,6 +180,10 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         if qs.len() != tr.points.len() {
             continue;
         }
+        let limits = Limits {
+            velocity: std::array::from_fn(|j| model.arms[arm.index()][j].velocity * scale),
+            acceleration,
+        };
         let start_gap = max_abs_diff(&qs[0], &q_cur[arm.index()]);
         if start_gap > 1e-9 {
             issue(format!(
@@ -171,35 +193,8 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
                 fmt_q(&q_cur[arm.index()])
             ));
         }
-        for i in 1..qs.len() {
-            let dt = tr.points[i].t - tr.points[i - 1].t;
-            // Written so that a NaN time fails too.
-            #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            if !(dt > 0.0) {
-                issue(format!(
-                    "point {i}: time does not increase ({:.6} s after {:.6} s)",
-                    tr.points[i].t,
-                    tr.points[i - 1].t
-                ));
-                continue;
-            }
-            for (j, (a, b)) in qs[i].iter().zip(&qs[i - 1]).enumerate() {
-                let d = (a - b).abs();
-                let v = model.arms[arm.index()][j].velocity;
-                if d > MAX_JOINT_STEP {
-                    issue(format!(
-                        "point {i} (t = {:.3} s): {} jumps {d:.4} rad (continuity threshold {MAX_JOINT_STEP} rad)",
-                        tr.points[i].t, tr.joint_names[j]
-                    ));
-                } else if d / dt > v * (1.0 + 1e-6) + 1e-9 {
-                    issue(format!(
-                        "point {i} (t = {:.3} s): {} moves at {:.4} rad/s, above its limit {v} rad/s",
-                        tr.points[i].t,
-                        tr.joint_names[j],
-                        d / dt
-                    ));
-                }
-            }
+        for m in check_motion(&tr.joint_names, &tr.points, &qs, &limits) {
+            issue(m);
         }
         // Key poses.
         if let Some(a) = action {
@@ -344,6 +339,123 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
     out
 }
 
+/// Joint limits a trajectory's points must keep: `velocity_scale ×` the model's velocity limits
+/// (rad/s) and `acceleration × velocity_scale²` (rad/s²), both as recorded in `robot.timing`.
+struct Limits {
+    velocity: [f64; 6],
+    acceleration: f64,
+}
+
+/// Relative slack of the velocity and acceleration checks, for rounding only: the smoothed time
+/// law (`motion::profile`) keeps its bounds exactly for finite differences over any samples.
+pub const RATE_REL_TOL: f64 = 1e-6;
+/// Absolute slack of the same checks (rad/s, rad/s²; rad for the velocity–position consistency).
+pub const RATE_ABS_TOL: f64 = 1e-9;
+
+/// Timing of one trajectory's points, by finite differences over consecutive points: time
+/// increases, no joint steps more than [`MAX_JOINT_STEP`], the speed over every interval is
+/// within the scaled velocity limit, and the change of speed between adjacent intervals, over the
+/// distance of their midpoints, within the scaled acceleration limit. Recorded velocities (when
+/// the points carry any) must be continuous, |v(i) − v(i−1)| ≤ a·Δt, and consistent with the
+/// positions: |Δq − Δt·(v(i−1) + v(i))/2| ≤ a·Δt²/4, which every motion whose acceleration stays
+/// within a satisfies (trapezoid rule). At most three findings per kind.
+fn check_motion(names: &[String], points: &[TrajPoint], qs: &[[f64; 6]], lim: &Limits) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut count = [0usize; 5];
+    let mut report = |kind: usize, m: String, out: &mut Vec<String>| {
+        count[kind] += 1;
+        if count[kind] <= 3 {
+            out.push(m);
+        }
+    };
+    let slack = |x: f64| x * (1.0 + RATE_REL_TOL) + RATE_ABS_TOL;
+    let a = lim.acceleration;
+    let with_v = points.iter().any(|p| !p.velocities.is_empty());
+    let vs: Vec<[f64; 6]> = if with_v {
+        match points.iter().map(|p| as6(&p.velocities)).collect::<Option<Vec<_>>>() {
+            Some(v) => v,
+            None => {
+                out.push("recorded velocities must be 6 finite numbers at every point (or at none)".into());
+                Vec::new()
+            }
+        }
+    } else {
+        Vec::new()
+    };
+    let mut prev: Option<([f64; 6], f64)> = None;
+    for i in 1..qs.len() {
+        let (t0, t1) = (points[i - 1].t, points[i].t);
+        let dt = t1 - t0;
+        // Written so that a NaN time fails too.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        if !(dt > 0.0) {
+            report(
+                0,
+                format!("point {i}: time does not increase ({t1:.6} s after {t0:.6} s)"),
+                &mut out,
+            );
+            prev = None;
+            continue;
+        }
+        let fd: [f64; 6] = std::array::from_fn(|j| (qs[i][j] - qs[i - 1][j]) / dt);
+        for j in 0..6 {
+            let d = (qs[i][j] - qs[i - 1][j]).abs();
+            if d > MAX_JOINT_STEP {
+                let m = format!(
+                    "point {i} (t = {t1:.3} s): {} jumps {d:.4} rad (continuity threshold {MAX_JOINT_STEP} rad)",
+                    names[j]
+                );
+                report(1, m, &mut out);
+            } else if fd[j].abs() > slack(lim.velocity[j]) {
+                let m = format!(
+                    "point {i} (t = {t1:.3} s): {} moves at {:.4} rad/s, above its scaled limit {:.4} rad/s",
+                    names[j],
+                    fd[j].abs(),
+                    lim.velocity[j]
+                );
+                report(2, m, &mut out);
+            }
+        }
+        if let Some((fp, dp)) = prev {
+            let mid = 0.5 * (dp + dt);
+            if let Some(j) = (0..6).find(|&j| (fd[j] - fp[j]).abs() / mid > slack(a)) {
+                let m = format!(
+                    "point {i} (t = {t0:.3} s): {} accelerates at {:.4} rad/s² (finite differences), above the \
+                     scaled limit {a:.4} rad/s²",
+                    names[j],
+                    (fd[j] - fp[j]).abs() / mid
+                );
+                report(3, m, &mut out);
+            }
+        }
+        prev = Some((fd, dt));
+        if vs.len() == qs.len() {
+            let (v0, v1) = (&vs[i - 1], &vs[i]);
+            let bad = (0..6).find(|&j| {
+                let jump = (v1[j] - v0[j]).abs();
+                let off = (qs[i][j] - qs[i - 1][j] - 0.5 * dt * (v0[j] + v1[j])).abs();
+                jump > slack(a * dt) || off > slack(a * dt * dt / 4.0)
+            });
+            if let Some(j) = bad {
+                let m = format!(
+                    "point {i} (t = {t1:.3} s): the recorded velocity of {} goes from {:.4} to {:.4} rad/s while it \
+                     moves {:.5} rad in {dt:.4} s: not a motion within {a:.4} rad/s²",
+                    names[j],
+                    v0[j],
+                    v1[j],
+                    qs[i][j] - qs[i - 1][j]
+                );
+                report(4, m, &mut out);
+            }
+        }
+    }
+    let more: usize = count.iter().map(|c| c.saturating_sub(3)).sum();
+    if more > 0 {
+        out.push(format!("{more} more timing findings"));
+    }
+    out
+}
+
 /// A recorded rotation matrix as a rotation, or why it is not one. Taken as it is once it is
 /// orthonormal with determinant +1: `Rotation3::from_matrix` re-orthonormalises iteratively
 /// from the identity and lands on the wrong rotation for a hand turned by π (a correct record
@@ -378,6 +490,61 @@ mod tests {
             let back = recorded_rotation(&rows(truth.to_rotation_matrix().matrix())).unwrap();
             assert!(back.angle_to(&truth) < 1e-12, "yaw {yaw}: {}", back.angle_to(&truth));
         }
+    }
+
+    fn names() -> Vec<String> {
+        (0..6).map(|j| format!("J{j}")).collect()
+    }
+
+    const LIM: Limits = Limits {
+        velocity: [0.45; 6],
+        acceleration: 0.81,
+    };
+
+    /// Points of a smoothed leg at scale 0.9, as the joint plan records them.
+    fn leg() -> Vec<TrajPoint> {
+        let opts = crate::motion::TrajectoryOptions::default();
+        let (a, b) = ([0.0; 6], [0.6, -0.3, 0.2, 0.0, 0.4, 1.0]);
+        let mid = [0.35, -0.1, 0.15, 0.05, 0.2, 0.5];
+        crate::motion::trajectory::time_segment(&[a, mid, b], &[0.5; 6], &opts, 0.0).0
+    }
+
+    fn qs(points: &[TrajPoint]) -> Vec<[f64; 6]> {
+        points.iter().map(|p| as6(&p.positions).unwrap()).collect()
+    }
+
+    #[test]
+    fn a_smoothed_leg_keeps_the_scaled_limits() {
+        let p = leg();
+        assert_eq!(check_motion(&names(), &p, &qs(&p), &LIM), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_point_too_fast_for_the_scaled_limit_but_not_for_the_urdf_is_refused() {
+        // Two points 0.047 rad apart in 0.1 s: 0.47 rad/s, under the URDF's 0.5, over 0.45.
+        let at = |t: f64, q: f64| TrajPoint {
+            t,
+            positions: vec![q, 0.0, 0.0, 0.0, 0.0, 0.0],
+            velocities: Vec::new(),
+        };
+        let p = vec![at(0.0, 0.0), at(0.1, 0.047)];
+        let found = check_motion(&names(), &p, &qs(&p), &LIM);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(found[0].contains("above its scaled limit"), "{found:?}");
+    }
+
+    #[test]
+    fn a_velocity_jump_and_an_acceleration_spike_are_refused() {
+        let mut p = leg();
+        let i = p.len() / 2;
+        p[i].velocities[1] += 0.1;
+        let found = check_motion(&names(), &p, &qs(&p), &LIM);
+        assert!(found.iter().any(|m| m.contains("recorded velocity of J1")), "{found:?}");
+        assert!(!found.iter().any(|m| m.contains("finite differences")), "{found:?}");
+        let mut p = leg();
+        p[i].positions[2] += 0.002;
+        let found = check_motion(&names(), &p, &qs(&p), &LIM);
+        assert!(found.iter().any(|m| m.contains("J2 accelerates")), "{found:?}");
     }
 
     #[test]
