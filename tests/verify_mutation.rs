@@ -281,6 +281,18 @@ fn mutations(plan: &Value) -> Vec<Mutation> {
         let a = p["robot"]["timing"]["acceleration"].as_f64().unwrap();
         p["robot"]["timing"]["acceleration"] = json!(0.5 * a);
     }));
+    // A plan that claims a faster cell than its instance allows, consistently, so that its own
+    // trajectories pass its own limits: only the instance can refute it.
+    v.push(m("the robot's speed scale raised to 1 with its velocity limits", |p| {
+        p["robot"]["timing"]["velocity_scale"] = json!(1.0);
+        p["robot"]["velocity_limits"] = json!(vec![0.5; 6]);
+        p["options"]["trajectory"]["velocity_scale"] = json!(1.0);
+    }));
+    v.push(m("the robot's acceleration limit doubled, in the options too", |p| {
+        let a = p["robot"]["timing"]["acceleration"].as_f64().unwrap();
+        p["robot"]["timing"]["acceleration"] = json!(2.0 * a);
+        p["options"]["trajectory"]["acceleration"] = json!(2.0 * a);
+    }));
     v.push(m("the robot's execution time understated", |p| {
         add(&mut p["robot"]["execution_time_s"], -10.0)
     }));

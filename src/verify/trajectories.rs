@@ -113,6 +113,30 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         ));
         return out;
     }
+    // The instance, not the plan, says how fast the cell may run: a plan that records faster
+    // limits than its instance allows would be checked against its own word otherwise.
+    let cell_scale = inst.robot.speed_scale;
+    let cell_acceleration = inst
+        .settings
+        .joint_acceleration
+        .unwrap_or(crate::motion::trajectory::DEFAULT_ACCELERATION);
+    if scale > cell_scale * (1.0 + 1e-12) {
+        out.push((
+            None,
+            format!("robot.timing: velocity scale {scale} is above the instance's robot.speed_scale {cell_scale}"),
+        ));
+    }
+    if timing.acceleration > cell_acceleration * (1.0 + 1e-12) {
+        out.push((
+            None,
+            format!(
+                "robot.timing: acceleration {} rad/s² is above the instance's limit {cell_acceleration} rad/s² \
+                 ([planner] joint_acceleration, default {})",
+                timing.acceleration,
+                crate::motion::trajectory::DEFAULT_ACCELERATION
+            ),
+        ));
+    }
     let mut q_cur = inst.robot.home;
     let mut opening = [0.0f64; 2];
     let mut at = vec![ObjAt::Table; inst.n()];
