@@ -12,7 +12,8 @@ use crate::geometry::Arm;
 use crate::instance::Instance;
 use crate::motion::joint_plan::{apply_action, collision_at, idle_arm, line_distance, segment_hand, ObjAt, LINE_LIMIT};
 use crate::motion::keypoints::action_keypoints;
-use crate::motion::trajectory::TrajPoint;
+use crate::motion::trajectory::{ActionTrajectory, TrajPoint};
+use crate::placement::Placement;
 use crate::plan::Plan;
 use crate::robot::ik::{max_abs_diff, pose_residual};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
@@ -52,91 +53,9 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         return out;
     }
     let model = &inst.robot.model;
-    match &plan.robot {
-        None => out.push((None, "plan has trajectories but no `robot` section".into())),
-        Some(r) => {
-            if r.tcp_offset
-                .iter()
-                .zip(&inst.robot.tcp_offset)
-                .any(|(a, b)| (a - b).abs() > 1e-12)
-            {
-                out.push((
-                    None,
-                    format!(
-                        "robot.tcp_offset {:?} differs from the instance's {:?}",
-                        r.tcp_offset, inst.robot.tcp_offset
-                    ),
-                ));
-            }
-        }
-    }
-    // A top-down pick keeps the object's up axis; turning it over needs the cell's regrasp.
-    if !inst.robot.regrasp {
-        for (k, a) in actions.iter().enumerate() {
-            if let Action::Place { object, .. } = a {
-                let (o, t) = (&inst.objects[*object], &placement.targets[*object]);
-                if t.orientation.up != o.table.up {
-                    out.push((
-                        Some(k),
-                        format!(
-                            "object {} stands on its {}-face on the table and on its {}-face in the container: a \
-                             top-down pick cannot turn it over (set robot.regrasp = true if the cell can, or \
-                             allow only `upright` orientations)",
-                            o.id,
-                            o.table.up.name(),
-                            t.orientation.up.name()
-                        ),
-                    ));
-                }
-            }
-        }
-    }
-    // One trajectory per action.
-    for k in 0..actions.len() {
-        let n = plan.trajectories.iter().filter(|t| t.action == Some(k)).count();
-        if n != 1 {
-            out.push((Some(k), format!("{n} joint trajectories for this action (expected 1)")));
-        }
-    }
-    // The limits the plan was timed with (`verify::claims` checks that the scale is in (0, 1]
-    // and that the recorded velocity limits are the model's times it).
-    let timing = plan.robot.as_ref().map(|r| r.timing).unwrap_or_default();
-    let scale = timing.velocity_scale;
-    let acceleration = timing.acceleration * scale * scale;
-    if !(scale.is_finite() && scale > 0.0 && scale <= 1.0 && acceleration.is_finite() && acceleration > 0.0) {
-        out.push((
-            None,
-            format!(
-                "robot.timing: velocity scale {scale} and acceleration {} rad/s² must be in (0, 1] and positive",
-                timing.acceleration
-            ),
-        ));
+    let Some((scale, acceleration)) = check_robot_section(inst, plan, &actions, &placement, &mut out) else {
         return out;
-    }
-    // The instance, not the plan, says how fast the cell may run: a plan that records faster
-    // limits than its instance allows would be checked against its own word otherwise.
-    let cell_scale = inst.robot.speed_scale;
-    let cell_acceleration = inst
-        .settings
-        .joint_acceleration
-        .unwrap_or(crate::motion::trajectory::DEFAULT_ACCELERATION);
-    if scale > cell_scale * (1.0 + 1e-12) {
-        out.push((
-            None,
-            format!("robot.timing: velocity scale {scale} is above the instance's robot.speed_scale {cell_scale}"),
-        ));
-    }
-    if timing.acceleration > cell_acceleration * (1.0 + 1e-12) {
-        out.push((
-            None,
-            format!(
-                "robot.timing: acceleration {} rad/s² is above the instance's limit {cell_acceleration} rad/s² \
-                 ([planner] joint_acceleration, default {})",
-                timing.acceleration,
-                crate::motion::trajectory::DEFAULT_ACCELERATION
-            ),
-        ));
-    }
+    };
     let mut q_cur = inst.robot.home;
     let mut opening = [0.0f64; 2];
     let mut at = vec![ObjAt::Table; inst.n()];
@@ -222,123 +141,24 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
         }
         // Key poses.
         if let Some(a) = action {
-            let kps = action_keypoints(inst, &placement, a);
-            if kps.len() != tr.key_poses.len() {
-                issue(format!(
-                    "{} key poses recorded, the action has {}",
-                    tr.key_poses.len(),
-                    kps.len()
-                ));
-            }
-            for (kp, want) in tr.key_poses.iter().zip(&kps) {
-                let mut kissue = |m: String| issue(format!("key pose {}: {m}", kp.label));
-                if kp.label != want.label {
-                    kissue(format!("label should be {}", want.label));
-                }
-                let Some(q) = as6(&kp.joints) else {
-                    kissue("joints must be 6 finite numbers".into());
-                    continue;
-                };
-                if let Some(e) = model.limit_error(arm, &q) {
-                    kissue(format!("joint limit: {e}"));
-                }
-                let fk = model.tcp_pose(arm, &q, &inst.robot.tcp_offset);
-                let rot = match recorded_rotation(&kp.rotation) {
-                    Ok(r) => r,
-                    Err(e) => {
-                        kissue(e);
-                        continue;
-                    }
-                };
-                let rec = Isometry3::from_parts(Translation3::from(Vector3::from(kp.position)), rot);
-                let (dp, dr) = pose_residual(&fk, &rec);
-                if dp > FK_POSITION_TOL || dr > FK_ROTATION_TOL {
-                    kissue(format!(
-                        "FK of the recorded joints is {dp:.3e} m / {dr:.3e} rad away from the recorded TCP pose \
-                         (tolerance {FK_POSITION_TOL:e} m / {FK_ROTATION_TOL:e} rad)"
-                    ));
-                }
-                let dw = (Vector3::from(kp.position) - Vector3::from(want.position)).norm();
-                if dw > FK_POSITION_TOL {
-                    kissue(format!(
-                        "recorded TCP position is {dw:.3e} m from the planned key point"
-                    ));
-                }
-                let down = fk.rotation * Vector3::z();
-                let tilt = down.angle(&-Vector3::z());
-                if tilt > FK_ROTATION_TOL {
-                    kissue(format!("tool is tilted {tilt:.3e} rad from top-down"));
-                }
-                match tr.points.iter().position(|p| (p.t - kp.t).abs() <= 1e-9) {
-                    Some(i) if max_abs_diff(&qs[i], &q) <= 1e-9 => {}
-                    Some(i) => kissue(format!(
-                        "the point at t = {:.3} s is not at the key pose's joints",
-                        tr.points[i].t
-                    )),
-                    None => kissue(format!("no trajectory point at its time t = {:.3} s", kp.t)),
-                }
-            }
-            // Straight-line push.
-            let find = |l: &str| tr.key_poses.iter().find(|k| k.label == l);
-            if let (Some(s), Some(e)) = (find("push-start"), find("push-end")) {
-                let (a3, b3) = (Vector3::from(s.position), Vector3::from(e.position));
-                let mut worst: f64 = 0.0;
-                let idx: Vec<usize> = (0..qs.len())
-                    .filter(|&i| tr.points[i].t >= s.t - 1e-9 && tr.points[i].t <= e.t + 1e-9)
-                    .collect();
-                for w in idx.windows(2) {
-                    for u in [0.0, 0.5] {
-                        let q: [f64; 6] = std::array::from_fn(|j| qs[w[0]][j] + u * (qs[w[1]][j] - qs[w[0]][j]));
-                        let p = model.tcp_position(arm, &q, &inst.robot.tcp_offset);
-                        worst = worst.max(line_distance(&p, &a3, &b3));
-                    }
-                }
-                if worst > LINE_LIMIT {
-                    issue(format!(
-                        "push leaves the straight line by {worst:.4e} m (limit {LINE_LIMIT:e} m)"
-                    ));
-                }
+            for m in check_key_poses(inst, &placement, a, tr, &qs) {
+                issue(m);
             }
         }
         // Collisions at every point and half-way between points.
         let other = arm.other();
-        let other_obs = idle_arm(inst, other, &q_cur[other.index()], opening[other.index()]);
-        let openings: Vec<f64> = tr.key_poses.iter().map(|k| k.opening).collect();
-        let mut reported = 0;
-        for i in 0..qs.len() {
-            for u in [0.0, 0.5] {
-                if i + 1 == qs.len() && u > 0.0 {
-                    continue;
-                }
-                let q: [f64; 6] = if u == 0.0 {
-                    qs[i]
-                } else {
-                    std::array::from_fn(|j| 0.5 * (qs[i][j] + qs[i + 1][j]))
-                };
-                let t = tr.points[i].t + u * tr.points.get(i + 1).map(|p| p.t - tr.points[i].t).unwrap_or(0.0);
-                let seg = tr
-                    .key_poses
-                    .iter()
-                    .position(|k| k.t >= t - 1e-9)
-                    .unwrap_or(tr.key_poses.len().saturating_sub(1));
-                let hand = match action {
-                    Some(a) => segment_hand(inst, &placement, a, seg, &openings, opening[arm.index()]),
-                    None => crate::motion::collision::Hand {
-                        opening: opening[arm.index()],
-                        held: None,
-                    },
-                };
-                if let Some((part, obs)) = collision_at(inst, &placement, &at, action, seg, &hand, arm, &q, &other_obs)
-                {
-                    if reported < 3 {
-                        issue(format!("collision at t = {t:.3} s: {part} hits {obs}"));
-                    }
-                    reported += 1;
-                }
-            }
-        }
-        if reported > 3 {
-            issue(format!("{} more colliding samples", reported - 3));
+        for m in check_collisions(
+            inst,
+            &placement,
+            &at,
+            action,
+            tr,
+            &qs,
+            &q_cur[other.index()],
+            opening[other.index()],
+            opening[arm.index()],
+        ) {
+            issue(m);
         }
         q_cur[arm.index()] = *qs.last().expect("non-empty");
         if let Some(last) = tr.key_poses.last() {
@@ -359,6 +179,258 @@ pub fn check_trajectories(inst: &Instance, plan: &Plan) -> Vec<(Option<usize>, S
                 ),
             ));
         }
+    }
+    out
+}
+
+/// The plan-level checks of the robot part: the `robot` section against the instance, turns a
+/// top-down pick cannot make, one trajectory per action, and the timing limits against what the
+/// instance allows. Returns the velocity scale and the scaled acceleration limit to check the
+/// points against, or `None` when the recorded ones are unusable.
+fn check_robot_section(
+    inst: &Instance,
+    plan: &Plan,
+    actions: &[Action],
+    placement: &Placement,
+    out: &mut Vec<(Option<usize>, String)>,
+) -> Option<(f64, f64)> {
+    match &plan.robot {
+        None => out.push((None, "plan has trajectories but no `robot` section".into())),
+        Some(r) => {
+            if r.tcp_offset
+                .iter()
+                .zip(&inst.robot.tcp_offset)
+                .any(|(a, b)| (a - b).abs() > 1e-12)
+            {
+                out.push((
+                    None,
+                    format!(
+                        "robot.tcp_offset {:?} differs from the instance's {:?}",
+                        r.tcp_offset, inst.robot.tcp_offset
+                    ),
+                ));
+            }
+        }
+    }
+    // A top-down pick keeps the object's up axis; turning it over needs the cell's regrasp.
+    if !inst.robot.regrasp {
+        for (k, a) in actions.iter().enumerate() {
+            if let Action::Place { object, .. } = a {
+                let (o, t) = (&inst.objects[*object], &placement.targets[*object]);
+                if t.orientation.up != o.table.up {
+                    out.push((
+                        Some(k),
+                        format!(
+                            "object {} stands on its {}-face on the table and on its {}-face in the container: a \
+                             top-down pick cannot turn it over (set robot.regrasp = true if the cell can, or \
+                             allow only `upright` orientations)",
+                            o.id,
+                            o.table.up.name(),
+                            t.orientation.up.name()
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    // One trajectory per action.
+    for k in 0..actions.len() {
+        let n = plan.trajectories.iter().filter(|t| t.action == Some(k)).count();
+        if n != 1 {
+            out.push((Some(k), format!("{n} joint trajectories for this action (expected 1)")));
+        }
+    }
+    // The limits the plan was timed with (`verify::claims` checks that the scale is in (0, 1]
+    // and that the recorded velocity limits are the model's times it).
+    let timing = plan.robot.as_ref().map(|r| r.timing).unwrap_or_default();
+    let scale = timing.velocity_scale;
+    let acceleration = timing.acceleration * scale * scale;
+    if !(scale.is_finite() && scale > 0.0 && scale <= 1.0 && acceleration.is_finite() && acceleration > 0.0) {
+        out.push((
+            None,
+            format!(
+                "robot.timing: velocity scale {scale} and acceleration {} rad/s² must be in (0, 1] and positive",
+                timing.acceleration
+            ),
+        ));
+        return None;
+    }
+    // The instance, not the plan, says how fast the cell may run: a plan that records faster
+    // limits than its instance allows would be checked against its own word otherwise.
+    let cell_scale = inst.robot.speed_scale;
+    let cell_acceleration = inst
+        .settings
+        .joint_acceleration
+        .unwrap_or(crate::motion::trajectory::DEFAULT_ACCELERATION);
+    if scale > cell_scale * (1.0 + 1e-12) {
+        out.push((
+            None,
+            format!("robot.timing: velocity scale {scale} is above the instance's robot.speed_scale {cell_scale}"),
+        ));
+    }
+    if timing.acceleration > cell_acceleration * (1.0 + 1e-12) {
+        out.push((
+            None,
+            format!(
+                "robot.timing: acceleration {} rad/s² is above the instance's limit {cell_acceleration} rad/s² \
+                 ([planner] joint_acceleration, default {})",
+                timing.acceleration,
+                crate::motion::trajectory::DEFAULT_ACCELERATION
+            ),
+        ));
+    }
+    Some((scale, acceleration))
+}
+
+/// The key poses of one action's trajectory against the action's key points (labels, joint
+/// limits, forward kinematics, a top-down tool, a trajectory point at each), and its push along
+/// a straight line.
+fn check_key_poses(
+    inst: &Instance,
+    placement: &Placement,
+    a: &Action,
+    tr: &ActionTrajectory,
+    qs: &[[f64; 6]],
+) -> Vec<String> {
+    let model = &inst.robot.model;
+    let arm = tr.arm;
+    let mut out = Vec::new();
+    let mut issue = |m: String| out.push(m);
+    let kps = action_keypoints(inst, placement, a);
+    if kps.len() != tr.key_poses.len() {
+        issue(format!(
+            "{} key poses recorded, the action has {}",
+            tr.key_poses.len(),
+            kps.len()
+        ));
+    }
+    for (kp, want) in tr.key_poses.iter().zip(&kps) {
+        let mut kissue = |m: String| issue(format!("key pose {}: {m}", kp.label));
+        if kp.label != want.label {
+            kissue(format!("label should be {}", want.label));
+        }
+        let Some(q) = as6(&kp.joints) else {
+            kissue("joints must be 6 finite numbers".into());
+            continue;
+        };
+        if let Some(e) = model.limit_error(arm, &q) {
+            kissue(format!("joint limit: {e}"));
+        }
+        let fk = model.tcp_pose(arm, &q, &inst.robot.tcp_offset);
+        let rot = match recorded_rotation(&kp.rotation) {
+            Ok(r) => r,
+            Err(e) => {
+                kissue(e);
+                continue;
+            }
+        };
+        let rec = Isometry3::from_parts(Translation3::from(Vector3::from(kp.position)), rot);
+        let (dp, dr) = pose_residual(&fk, &rec);
+        if dp > FK_POSITION_TOL || dr > FK_ROTATION_TOL {
+            kissue(format!(
+                "FK of the recorded joints is {dp:.3e} m / {dr:.3e} rad away from the recorded TCP pose \
+                 (tolerance {FK_POSITION_TOL:e} m / {FK_ROTATION_TOL:e} rad)"
+            ));
+        }
+        let dw = (Vector3::from(kp.position) - Vector3::from(want.position)).norm();
+        if dw > FK_POSITION_TOL {
+            kissue(format!(
+                "recorded TCP position is {dw:.3e} m from the planned key point"
+            ));
+        }
+        let down = fk.rotation * Vector3::z();
+        let tilt = down.angle(&-Vector3::z());
+        if tilt > FK_ROTATION_TOL {
+            kissue(format!("tool is tilted {tilt:.3e} rad from top-down"));
+        }
+        match tr.points.iter().position(|p| (p.t - kp.t).abs() <= 1e-9) {
+            Some(i) if max_abs_diff(&qs[i], &q) <= 1e-9 => {}
+            Some(i) => kissue(format!(
+                "the point at t = {:.3} s is not at the key pose's joints",
+                tr.points[i].t
+            )),
+            None => kissue(format!("no trajectory point at its time t = {:.3} s", kp.t)),
+        }
+    }
+    // Straight-line push.
+    let find = |l: &str| tr.key_poses.iter().find(|k| k.label == l);
+    if let (Some(s), Some(e)) = (find("push-start"), find("push-end")) {
+        let (a3, b3) = (Vector3::from(s.position), Vector3::from(e.position));
+        let mut worst: f64 = 0.0;
+        let idx: Vec<usize> = (0..qs.len())
+            .filter(|&i| tr.points[i].t >= s.t - 1e-9 && tr.points[i].t <= e.t + 1e-9)
+            .collect();
+        for w in idx.windows(2) {
+            for u in [0.0, 0.5] {
+                let q: [f64; 6] = std::array::from_fn(|j| qs[w[0]][j] + u * (qs[w[1]][j] - qs[w[0]][j]));
+                let p = model.tcp_position(arm, &q, &inst.robot.tcp_offset);
+                worst = worst.max(line_distance(&p, &a3, &b3));
+            }
+        }
+        if worst > LINE_LIMIT {
+            issue(format!(
+                "push leaves the straight line by {worst:.4e} m (limit {LINE_LIMIT:e} m)"
+            ));
+        }
+    }
+    out
+}
+
+/// Collisions of one trajectory at every point and half-way between points, with the objects
+/// where `at` has them and the other arm idle at `q_other` with its fingers at `opening_other`;
+/// `opening` is the arm's own opening when the move starts.
+#[allow(clippy::too_many_arguments)]
+fn check_collisions(
+    inst: &Instance,
+    placement: &Placement,
+    at: &[ObjAt],
+    action: Option<&Action>,
+    tr: &ActionTrajectory,
+    qs: &[[f64; 6]],
+    q_other: &[f64; 6],
+    opening_other: f64,
+    opening_self: f64,
+) -> Vec<String> {
+    let arm = tr.arm;
+    let mut out = Vec::new();
+    let mut issue = |m: String| out.push(m);
+    let other = arm.other();
+    let other_obs = idle_arm(inst, other, q_other, opening_other);
+    let openings: Vec<f64> = tr.key_poses.iter().map(|k| k.opening).collect();
+    let mut reported = 0;
+    for i in 0..qs.len() {
+        for u in [0.0, 0.5] {
+            if i + 1 == qs.len() && u > 0.0 {
+                continue;
+            }
+            let q: [f64; 6] = if u == 0.0 {
+                qs[i]
+            } else {
+                std::array::from_fn(|j| 0.5 * (qs[i][j] + qs[i + 1][j]))
+            };
+            let t = tr.points[i].t + u * tr.points.get(i + 1).map(|p| p.t - tr.points[i].t).unwrap_or(0.0);
+            let seg = tr
+                .key_poses
+                .iter()
+                .position(|k| k.t >= t - 1e-9)
+                .unwrap_or(tr.key_poses.len().saturating_sub(1));
+            let hand = match action {
+                Some(a) => segment_hand(inst, placement, a, seg, &openings, opening_self),
+                None => crate::motion::collision::Hand {
+                    opening: opening_self,
+                    held: None,
+                },
+            };
+            if let Some((part, obs)) = collision_at(inst, placement, at, action, seg, &hand, arm, &q, &other_obs) {
+                if reported < 3 {
+                    issue(format!("collision at t = {t:.3} s: {part} hits {obs}"));
+                }
+                reported += 1;
+            }
+        }
+    }
+    if reported > 3 {
+        issue(format!("{} more colliding samples", reported - 3));
     }
     out
 }
