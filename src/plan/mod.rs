@@ -132,7 +132,8 @@ pub struct PlanOptions {
     /// Sequencer.
     pub sequencer: Sequencer,
     /// Time limit of the whole run (s): placement, sequence and joint trajectories together
-    /// ([`RunBudget`] divides it).
+    /// ([`RunBudget`] divides it). A search checks its clock between steps, so a run can end
+    /// up to one step late: 0.25 s at most on the committed 20-object set (docs/benchmarks.md).
     pub time_limit: f64,
     /// Node limit of the sequence search.
     pub max_nodes: u64,
