@@ -23,6 +23,23 @@ impl Terminator for FiresAfter {
     }
 }
 
+/// Every `Progress` event heard: (stage, nodes, incumbent, bound).
+fn progress_of(events: &Recorder) -> Vec<(Stage, u64, Option<f64>, Option<f64>)> {
+    events
+        .0
+        .iter()
+        .filter_map(|e| match e {
+            Event::Progress {
+                stage,
+                nodes,
+                incumbent,
+                bound,
+            } => Some((*stage, *nodes, *incumbent, *bound)),
+            _ => None,
+        })
+        .collect()
+}
+
 /// A 16-object instance whose A* search runs long enough to be interrupted with a plan in hand.
 const LONG: &str = "random/n16/n16_k4_s0001.toml";
 
@@ -72,19 +89,7 @@ fn the_sequence_search_reports_its_progress_at_most_every_interval() {
     let start = std::time::Instant::now();
     let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events);
     let elapsed = start.elapsed();
-    let progress: Vec<(Stage, u64, Option<f64>, Option<f64>)> = events
-        .0
-        .iter()
-        .filter_map(|e| match e {
-            Event::Progress {
-                stage,
-                nodes,
-                incumbent,
-                bound,
-            } => Some((*stage, *nodes, *incumbent, *bound)),
-            _ => None,
-        })
-        .collect();
+    let progress = progress_of(&events);
     let seq_s = out.map(|o| o.plan.solver.sequence.time_s);
     assert!(
         !progress.is_empty(),
@@ -179,19 +184,7 @@ fn the_paper_sequencer_reports_its_progress_and_no_bound() {
     let start = std::time::Instant::now();
     let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events);
     let elapsed = start.elapsed();
-    let progress: Vec<(Stage, u64, Option<f64>, Option<f64>)> = events
-        .0
-        .iter()
-        .filter_map(|e| match e {
-            Event::Progress {
-                stage,
-                nodes,
-                incumbent,
-                bound,
-            } => Some((*stage, *nodes, *incumbent, *bound)),
-            _ => None,
-        })
-        .collect();
+    let progress = progress_of(&events);
     assert!(
         progress.len() >= 2,
         "a search of {elapsed:?} reports more than once: {progress:?} ({:?})",
