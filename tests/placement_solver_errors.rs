@@ -85,7 +85,7 @@ fn options_that_would_change_a_proof_are_bad_input() {
     }
 }
 
-/// `place --highs-option`: a failing HiGHS run exits 1 with "HiGHS failed" and the status on
+/// `place --highs-option`: a failing HiGHS run exits 3 with "HiGHS failed" and the status on
 /// stderr, never "infeasible" or "no feasible plan"; a forbidden or malformed option exits 2
 /// naming `--highs-option`.
 #[test]
@@ -112,7 +112,11 @@ fn place_cli_reports_a_highs_failure_as_an_error() {
     let opt = format!("read_solution_file={}", missing.display());
     let out = run(&["--highs-option", &opt]);
     let err = String::from_utf8_lossy(&out.stderr).to_lowercase();
-    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(
+        out.status.code(),
+        Some(3),
+        "a solver failure has its own exit code: {err}"
+    );
     assert!(err.contains("highs failed") && err.contains("status error"), "{err}");
     assert!(!err.contains("infeasible") && !err.contains("no feasible"), "{err}");
     for bad in ["mip_rel_gap=0.5", "output_flag"] {

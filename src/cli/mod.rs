@@ -23,6 +23,9 @@ pub const EXIT_OK: i32 = 0;
 pub const EXIT_FAIL: i32 = 1;
 /// Exit code for bad input (unreadable or invalid files).
 pub const EXIT_BAD_INPUT: i32 = 2;
+/// Exit code for a solver that failed (HiGHS returned an error): neither an answer about the
+/// problem nor the user's fault, so scripts can retry or report it apart from "no plan".
+pub const EXIT_SOLVER: i32 = 3;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -68,7 +71,7 @@ enum Cmd {
         contact_budget: Option<String>,
         /// Exact solver only: set a HiGHS option, `NAME=VALUE`, on every HiGHS model of the
         /// placement (repeatable; for experiments, e.g. `output_flag=true`). HiGHS checks the
-        /// value: one it rejects, or a run it fails, is a solver error (exit 1).
+        /// value: one it rejects, or a run it fails, is a solver error (exit 3).
         #[arg(long = "highs-option", value_name = "NAME=VALUE")]
         highs_option: Vec<String>,
     },
@@ -371,6 +374,8 @@ pub fn main() -> i32 {
             eprintln!("error: {e}");
             if e.is_input() {
                 EXIT_BAD_INPUT
+            } else if matches!(e, Error::Solver { .. }) {
+                EXIT_SOLVER
             } else {
                 EXIT_FAIL
             }
