@@ -116,18 +116,23 @@ fn run(inst: &Instance, limit: f64, area_master: AreaMaster) -> (PlacementResult
     milp::solve_report(inst, &none, &s, &TimeLimit::new(limit)).expect("squares always fit the loose container")
 }
 
-/// `--boxes N`: every box `W × D`, `W ≥ D ≥ N`, with `sum ≤ W·D ≤ A038666(N)`, decided by the
-/// packing search alone (the area stage decides these, in area order, until one packs).
-fn decide_boxes(n: u32, limit: f64) {
-    use pushpack::placement::opp::{decide, refuted_by_bounds, Item};
-    use std::time::Instant;
-    let items: Vec<Item> = (1..=n)
+/// The squares 1 × 1 … N × N as packing-search items, largest first.
+fn square_items(n: u32) -> Vec<pushpack::placement::opp::Item> {
+    (1..=n)
         .rev()
-        .map(|s| Item {
+        .map(|s| pushpack::placement::opp::Item {
             opts: vec![[s as f64, s as f64]],
             class: s as usize,
         })
-        .collect();
+        .collect()
+}
+
+/// `--boxes N`: every box `W × D`, `W ≥ D ≥ N`, with `sum ≤ W·D ≤ A038666(N)`, decided by the
+/// packing search alone (the area stage decides these, in area order, until one packs).
+fn decide_boxes(n: u32, limit: f64) {
+    use pushpack::placement::opp::{decide, refuted_by_bounds};
+    use std::time::Instant;
+    let items = square_items(n);
     let sum: u32 = (1..=n).map(|s| s * s).sum();
     let best = A038666[n as usize - 1];
     let mut list: Vec<(u32, u32)> = Vec::new();
@@ -170,17 +175,11 @@ fn decide_boxes(n: u32, limit: f64) {
 /// allow), starting from no contact to beat.
 fn contact_boxes(n: u32, limit: f64) {
     use pushpack::placement::area::max_contact;
-    use pushpack::placement::opp::{decide, Item, Outcome};
+    use pushpack::placement::opp::{decide, Outcome};
     use std::time::Instant;
     let inst = Instance::parse(&consecutive_squares_toml(n, None), false, "<bench>", None).expect("valid");
     let fps = milp::footprints(&inst);
-    let items: Vec<Item> = (1..=n)
-        .rev()
-        .map(|s| Item {
-            opts: vec![[s as f64, s as f64]],
-            class: s as usize,
-        })
-        .collect();
+    let items = square_items(n);
     let best = A038666[n as usize - 1];
     println!("| W | D | finished | contact (units) | nodes | s | CPU s |");
     println!("|---|---|---|---|---|---|---|");

@@ -23,8 +23,9 @@ impl Terminator for FiresAfter {
     }
 }
 
-/// Every `Progress` event heard: (stage, nodes, incumbent, bound).
-fn progress_of(events: &Recorder) -> Vec<(Stage, u64, Option<f64>, Option<f64>)> {
+/// The `Progress` events of one stage: (nodes, incumbent, bound). Every stage of a run reports,
+/// so a test of one search looks at its own stage's events.
+fn progress_of(events: &Recorder, of: Stage) -> Vec<(u64, Option<f64>, Option<f64>)> {
     events
         .0
         .iter()
@@ -34,7 +35,7 @@ fn progress_of(events: &Recorder) -> Vec<(Stage, u64, Option<f64>, Option<f64>)>
                 nodes,
                 incumbent,
                 bound,
-            } => Some((*stage, *nodes, *incumbent, *bound)),
+            } if *stage == of => Some((*nodes, *incumbent, *bound)),
             _ => None,
         })
         .collect()
@@ -89,11 +90,7 @@ fn the_sequence_search_reports_its_progress_at_most_every_interval() {
     let start = std::time::Instant::now();
     let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events);
     let elapsed = start.elapsed();
-    // The search's own events; the joint plan after it reports too (its own test below).
-    let progress: Vec<_> = progress_of(&events)
-        .into_iter()
-        .filter(|e| e.0 == Stage::Sequence)
-        .collect();
+    let progress = progress_of(&events, Stage::Sequence);
     let seq_s = out.map(|o| o.plan.solver.sequence.time_s);
     assert!(
         !progress.is_empty(),
@@ -101,7 +98,7 @@ fn the_sequence_search_reports_its_progress_at_most_every_interval() {
     );
     assert!(progress.len() as f64 <= elapsed.as_secs_f64() / PROGRESS_INTERVAL.as_secs_f64() + 1.0);
     let mut last_nodes = 0;
-    for (_, nodes, incumbent, bound) in progress {
+    for (nodes, incumbent, bound) in progress {
         assert!(nodes >= last_nodes);
         last_nodes = nodes;
         if let (Some(i), Some(b)) = (incumbent, bound) {
@@ -187,11 +184,7 @@ fn the_paper_sequencer_reports_its_progress_and_no_bound() {
     let start = std::time::Instant::now();
     let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events);
     let elapsed = start.elapsed();
-    // The search's own events; the joint plan after it reports too (its own test below).
-    let progress: Vec<_> = progress_of(&events)
-        .into_iter()
-        .filter(|e| e.0 == Stage::Sequence)
-        .collect();
+    let progress = progress_of(&events, Stage::Sequence);
     assert!(
         progress.len() >= 2,
         "a search of {elapsed:?} reports more than once: {progress:?} ({:?})",
@@ -199,7 +192,7 @@ fn the_paper_sequencer_reports_its_progress_and_no_bound() {
     );
     assert!(progress.len() as f64 <= elapsed.as_secs_f64() / PROGRESS_INTERVAL.as_secs_f64() + 1.0);
     let mut last_nodes = 0;
-    for (_, nodes, _, bound) in progress {
+    for (nodes, _, bound) in progress {
         assert!(nodes >= last_nodes, "nodes went from {last_nodes} down to {nodes}");
         last_nodes = nodes;
         assert_eq!(bound, None, "the paper sequencer proves no bound");

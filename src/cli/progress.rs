@@ -31,6 +31,14 @@ impl Progress {
     }
 }
 
+/// An objective or bound as the summary prints it: placement areas (m²) in cm².
+fn figure(stage: Stage, v: f64) -> String {
+    match stage {
+        Stage::Placement => format!("{:.1} cm²", v * 1e4),
+        _ => format!("{v}"),
+    }
+}
+
 impl Listener for Progress {
     fn event(&mut self, event: &Event) {
         match event {
@@ -52,10 +60,7 @@ impl Listener for Progress {
                 bound,
             } => {
                 // Placement objectives are areas in m²: shown in cm², as the summary does.
-                let show = |v: f64| match stage {
-                    Stage::Placement => format!("{:.1} cm²", v * 1e4),
-                    _ => format!("{v}"),
-                };
+                let show = |v: f64| figure(*stage, v);
                 if *stage == Stage::Motion {
                     self.bar.set_message(format!("{}: {nodes} actions planned", self.stage));
                     return;
@@ -73,10 +78,7 @@ impl Listener for Progress {
                 objective,
                 bound,
             } => {
-                let show = |v: f64| match stage {
-                    Stage::Placement => format!("{:.1} cm²", v * 1e4),
-                    _ => format!("{v}"),
-                };
+                let show = |v: f64| figure(*stage, v);
                 let figures = match (objective, bound) {
                     (Some(o), Some(b)) => format!(", objective {}, bound {}", show(*o), show(*b)),
                     (Some(o), None) => format!(", objective {}", show(*o)),
