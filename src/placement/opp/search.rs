@@ -64,6 +64,11 @@ pub struct Search<'a> {
     /// Scratch buffers of [`Self::capacity_refutes`].
     buf_ends: Vec<(f64, f64)>,
     buf_pieces: Vec<(f64, f64)>,
+    /// The depths' common grid, for the subset sums of [`Self::capacity_refutes`] (`None`: no
+    /// grid coarse enough; free depth then counts in full), and its bitset buffers.
+    grid: Option<subset::Grid>,
+    buf_bits: Vec<u64>,
+    buf_tmp: Vec<u64>,
     /// First item of the largest class, kept in the lower-left quarter (mirror symmetry).
     anchor: Option<usize>,
     /// Per item: chosen footprint and left edge in the x-phase.
@@ -173,6 +178,9 @@ impl<'a> Search<'a> {
             by_depth,
             buf_ends: Vec::new(),
             buf_pieces: Vec::new(),
+            grid: subset::Grid::new(items, w, d),
+            buf_bits: Vec::new(),
+            buf_tmp: Vec::new(),
             anchor,
             opt: vec![0; n],
             x0: vec![0.0; n],
@@ -306,16 +314,35 @@ impl<'a> Search<'a> {
         let tol = self.t * (self.w + self.d);
         let mut area = 0.0;
         let mut refuted = false;
-        // The unplaced items, deepest first (`by_depth` is that order over all items).
+        // The unplaced items, deepest first (`by_depth` is that order over all items). Those
+        // covering a column stack to a subset sum of their depths: with a grid, a piece holds
+        // at most the largest such sum within its free depth.
+        let mut bits = std::mem::take(&mut self.buf_bits);
+        let mut tmp = std::mem::take(&mut self.buf_tmp);
+        if let Some(g) = &self.grid {
+            g.clear(&mut bits);
+        }
         for &i in self.by_depth.iter().filter(|&&i| !self.placed[i]) {
             area += self.min_area[i];
             let h = self.min_depth[i];
-            let avail: f64 = pieces.iter().filter(|p| p.1 >= h - self.t).map(|p| p.0 * p.1).sum();
+            let avail: f64 = match &self.grid {
+                Some(g) => {
+                    g.add(&mut bits, &mut tmp, i);
+                    pieces
+                        .iter()
+                        .filter(|p| p.1 >= h - self.t)
+                        .map(|p| p.0 * g.most(&bits, p.1 + self.t))
+                        .sum()
+                }
+                None => pieces.iter().filter(|p| p.1 >= h - self.t).map(|p| p.0 * p.1).sum(),
+            };
             if area > avail + tol {
                 refuted = true;
                 break;
             }
         }
+        self.buf_bits = bits;
+        self.buf_tmp = tmp;
         self.buf_ends = ends;
         self.buf_pieces = pieces;
         refuted
