@@ -275,6 +275,7 @@ fn free_cell(rects: &[[f64; 4]], g: f64, w: f64, d: f64) -> Option<(f64, f64)> {
     None
 }
 
+mod dominance;
 mod search;
 mod subset;
 pub use search::{Search, Visitor};

@@ -1,6 +1,7 @@
 //! The exact search for one box: the x-phase over left edges under the bar relaxation, then the
 //! y-phase for each complete x-assignment (module doc of [`super`] says why it is exact).
 
+use super::dominance::dominated;
 use super::*;
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -33,6 +34,9 @@ impl Hasher for FxHasher {
         self.0
     }
 }
+
+/// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units.
+type Profile = Vec<(i64, i64)>;
 
 /// What enumeration hands each packing to; `true` stops it.
 pub type Visitor<'a> = dyn FnMut(&[Pos]) -> bool + 'a;
@@ -79,8 +83,17 @@ pub struct Search<'a> {
     /// x-phase states (position, placed set, free-depth profile ahead) proven to have no
     /// complete x-assignment, with the least waste at which that was shown.
     dead: HashMap<StateKey, (f64, f64), BuildHasherDefault<FxHasher>>,
+    /// Without a contact bound, the dead states' open-object profiles per (placed set,
+    /// position): a state is dead when a recorded one with the same placed set and position had
+    /// no more load anywhere ahead ([`dominated`]). Entries, counted against [`DEAD_MAX`].
+    dominant: HashMap<(u64, i64), Vec<Profile>, BuildHasherDefault<FxHasher>>,
+    dominant_len: usize,
+    /// Whether [`dominated`] states are cut (off only to test that it changes no answer), and
+    /// how many were.
+    pub(super) dominance: bool,
+    pub(super) dominance_cuts: u64,
     /// Complete x-assignments handed to the y-phase so far.
-    yleaves: u64,
+    pub(super) yleaves: u64,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
     /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
     visit: Option<&'a mut Visitor<'a>>,
@@ -136,6 +149,14 @@ impl<'a> Search<'a> {
         (complete, s.nodes)
     }
 
+    /// Enumeration of every packing into `visit` without a contact bound (tests only).
+    #[cfg(test)]
+    pub(super) fn enumerating(mut self, visit: &'a mut Visitor<'a>) -> Self {
+        self.anchor = None;
+        self.visit = Some(visit);
+        self
+    }
+
     /// A search for `items` in `w × d`; `stop` is polled now and then.
     pub fn new(items: &'a [Item], w: f64, d: f64, stop: &'a dyn Fn() -> bool) -> Self {
         let n = items.len();
@@ -188,6 +209,10 @@ impl<'a> Search<'a> {
             y0: vec![0.0; n],
             visit: None,
             dead: HashMap::default(),
+            dominant: HashMap::default(),
+            dominant_len: 0,
+            dominance: true,
+            dominance_cuts: 0,
             yleaves: 0,
             dead_enabled: true,
             cbound: None,
@@ -399,20 +424,38 @@ impl<'a> Search<'a> {
         // under a contact bound, the contact cuts ahead depend on the state, on the right sides
         // ending at `t` (put in the key) and on the contact bound of the placed part; the bound
         // to beat only rises, so a subtree cut at some contact bound is cut again at no more.
+        //
+        // Without a contact bound, "dead" means that no complete x-assignment extends the state
+        // (every cut below is a necessary condition, the waste one included), so a state is also
+        // dead when a dead one with the same placed set and position had no more load at any
+        // column ahead: each completion of it would complete that one (halved the nodes of the
+        // hardest boxes of squares 1…18, docs/algorithms.md).
         let key = (min_idx == 0 && self.dead_enabled).then(|| self.state_key(t));
         if let Some(k) = &key {
-            if self
-                .dead
-                .get(k)
-                .is_some_and(|&(w0, u0)| w0 <= waste + tol && ub <= u0 + 1e-9)
-            {
+            let dead = if self.cbound.is_none() {
+                let list = self.dominant.get(&(k.0, k.1));
+                let same = |a: &Profile| if self.dominance { dominated(&k.2, a) } else { *a == k.2 };
+                let dead = list.is_some_and(|l| l.iter().any(same));
+                self.dominance_cuts += (dead && list.is_some_and(|l| !l.contains(&k.2))) as u64;
+                dead
+            } else {
+                self.dead
+                    .get(k)
+                    .is_some_and(|&(w0, u0)| w0 <= waste + tol && ub <= u0 + 1e-9)
+            };
+            if dead {
                 return false;
             }
         }
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
-        if let Some(k) = key {
-            if !found && !self.stopped && self.yleaves == leaves_before && self.dead.len() < DEAD_MAX {
+        if let Some(k) = key.filter(|_| !found && !self.stopped && self.yleaves == leaves_before) {
+            if self.cbound.is_none() {
+                if self.dominant_len < DEAD_MAX {
+                    self.dominant_len += 1;
+                    self.dominant.entry((k.0, k.1)).or_default().push(k.2);
+                }
+            } else if self.dead.len() < DEAD_MAX {
                 let u = if self.cpruned == cut_before { f64::INFINITY } else { ub };
                 let e = self.dead.entry(k).or_insert((waste, u));
                 // Keep the record that covers more (the waste is the same for one key: the
