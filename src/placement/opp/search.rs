@@ -82,12 +82,12 @@ pub struct Search<'a> {
     x0: Vec<f64>,
     placed: Vec<bool>,
     y0: Vec<f64>,
-    /// x-phase states (position, placed set, free-depth profile ahead) proven to have no
-    /// complete x-assignment, with the least waste at which that was shown.
+    /// x-phase states (placed set, position, open objects, right sides ending at `t`) whose
+    /// subtree the contact bound cut, with the waste and the contact bound at which it did.
     dead: HashMap<StateKey, (f64, f64), BuildHasherDefault<FxHasher>>,
-    /// Without a contact bound, the dead states' open-object profiles per (placed set,
-    /// position): a state is dead when a recorded one with the same placed set and position had
-    /// no more load anywhere ahead ([`dominated`]). Entries, counted against [`DEAD_MAX`].
+    /// The open-object profiles, per (placed set, position), of the states that failed without
+    /// a contact cut: a state is dead when a recorded one with the same placed set and position
+    /// had no more load anywhere ahead ([`dominated`]). Entries, counted against [`DEAD_MAX`].
     dominant: HashMap<(u64, i64), Vec<Profile>, BuildHasherDefault<FxHasher>>,
     dominant_len: usize,
     /// Whether [`dominated`] states are cut (off only to test that it changes no answer), and
@@ -427,24 +427,37 @@ impl<'a> Search<'a> {
         // ending at `t` (put in the key) and on the contact bound of the placed part; the bound
         // to beat only rises, so a subtree cut at some contact bound is cut again at no more.
         //
-        // Without a contact bound, "dead" means that no complete x-assignment extends the state
-        // (every cut below is a necessary condition, the waste one included), so a state is also
-        // dead when a dead one with the same placed set and position had no more load at any
-        // column ahead: each completion of it would complete that one (halved the nodes of the
-        // hardest boxes of squares 1…18, docs/algorithms.md).
+        //
+        // A state that failed without a contact cut below it (always so without a contact
+        // bound) has no complete x-assignment at all: every other cut is a necessary condition,
+        // the waste one included. Such states are kept as profiles, and a state is also dead
+        // when one of them with the same placed set and position had no more load at any column
+        // ahead: each completion of it would complete that one (halved the nodes of the hardest
+        // boxes of squares 1…18, docs/algorithms.md). Only the others, dead at some contact
+        // bound, go to the exact-key memo.
         let key = (min_idx == 0 && self.dead_enabled).then(|| self.state_key(t));
         if let Some(k) = &key {
-            let dead = if self.cbound.is_none() {
-                let list = self.dominant.get(&(k.0, k.1));
-                let same = |a: &Profile| if self.dominance { dominated(&k.2, a) } else { *a == k.2 };
-                let dead = list.is_some_and(|l| l.iter().any(same));
-                self.dominance_cuts += (dead && list.is_some_and(|l| !l.contains(&k.2))) as u64;
-                dead
-            } else {
-                self.dead
-                    .get(k)
-                    .is_some_and(|&(w0, u0)| w0 <= waste + tol && ub <= u0 + 1e-9)
+            // The open-object profile: the key without the contact marker (`state_key`).
+            let profile = &k.2[..k.2.len() - self.cbound.is_some() as usize];
+            let list = self.dominant.get(&(k.0, k.1));
+            let same = |a: &Profile| {
+                if self.dominance {
+                    dominated(profile, a)
+                } else {
+                    a[..] == *profile
+                }
             };
+            let mut dead = list.is_some_and(|l| l.iter().any(same));
+            self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| a[..] == *profile))) as u64;
+            if !dead {
+                if let Some(&(w0, u0)) = self.dead.get(k) {
+                    dead = w0 <= waste + tol && ub <= u0 + 1e-9;
+                    // A record that depends on the contact bound makes whatever it cuts depend
+                    // on it too: count it as a contact cut, so that no ancestor is recorded as
+                    // dead at any bound.
+                    self.cpruned += dead as u64;
+                }
+            }
             if dead {
                 return false;
             }
@@ -452,18 +465,19 @@ impl<'a> Search<'a> {
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
         if let Some(k) = key.filter(|_| !found && !self.stopped && self.yleaves == leaves_before) {
-            if self.cbound.is_none() {
+            if self.cpruned == cut_before {
+                // No complete x-assignment extends it, whatever the contact bound.
                 if self.dominant_len < DEAD_MAX {
                     self.dominant_len += 1;
-                    self.dominant.entry((k.0, k.1)).or_default().push(k.2);
+                    let profile = k.2[..k.2.len() - self.cbound.is_some() as usize].to_vec();
+                    self.dominant.entry((k.0, k.1)).or_default().push(profile);
                 }
             } else if self.dead.len() < DEAD_MAX {
-                let u = if self.cpruned == cut_before { f64::INFINITY } else { ub };
-                let e = self.dead.entry(k).or_insert((waste, u));
+                let e = self.dead.entry(k).or_insert((waste, ub));
                 // Keep the record that covers more (the waste is the same for one key: the
                 // area behind `t` is placed or wasted, and the placed part ahead is in the key).
-                if waste <= e.0 + tol && u >= e.1 {
-                    *e = (waste, u);
+                if waste <= e.0 + tol && ub >= e.1 {
+                    *e = (waste, ub);
                 }
             }
         }
