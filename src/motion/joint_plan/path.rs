@@ -33,19 +33,9 @@ pub fn line_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f6
     (p - (a + ab * u)).norm()
 }
 
-/// Follow the straight line a → b from configuration `q0` (at a).
-pub(super) fn follow_line(
-    solver: &IkSolver,
-    q0: &[f64; 6],
-    a: &Isometry3<f64>,
-    b: &Isometry3<f64>,
-    what: &str,
-) -> Result<Vec<[f64; 6]>, RobotError> {
-    follow_line_tol(solver, q0, a, b, what, LINE_TOLERANCE)
-}
-
-/// [`follow_line`] with another position tolerance (the predicate only needs to know that the
-/// line can be followed, not the fine waypoints the joint plan emits).
+/// Follow the straight line a → b from configuration `q0` (at a), within position tolerance `tol`
+/// (the predicate only needs to know that the line can be followed, not the fine waypoints the
+/// joint plan emits).
 pub(super) fn follow_line_tol(
     solver: &IkSolver,
     q0: &[f64; 6],
@@ -65,6 +55,49 @@ pub(super) fn follow_line_tol(
         refine(solver, a, b, s0, s1, &mut out, 0, what, &mut worst, tol)?;
     }
     Ok(out)
+}
+
+/// [`follow_line_tol`] through the context's memo (a pure function of its inputs, so a hit is
+/// the same answer). The predicate only asks whether a line can be followed, so it shares a
+/// line between actions whatever the move is called; the joint plan keeps the error, which
+/// names the move, so its key holds the name too.
+pub(super) fn line_memo(
+    ctx: &Ctx,
+    solver: &IkSolver,
+    q0: &[f64; 6],
+    a: &Isometry3<f64>,
+    b: &Isometry3<f64>,
+    what: &str,
+    tol: f64,
+) -> Result<Vec<[f64; 6]>, RobotError> {
+    IkMemo::get(
+        ctx.memo,
+        || {
+            let mut k = key_bits(2, solver.arm(), &[a, b], Some(q0), &[tol]);
+            if !ctx.fast_ik {
+                k.extend(what.bytes().map(u64::from));
+            }
+            k
+        },
+        || follow_line_tol(solver, q0, a, b, what, tol),
+    )
+}
+
+/// [`IkSolver::solve_near`] through the context's memo. The hand variants of an action share
+/// their table half, and the joint plan's kinematic ranking pass solves the same poses as its
+/// full pass: without the memo each repeat costs a descent from every IK seed.
+pub(super) fn near_memo(
+    ctx: &Ctx,
+    solver: &IkSolver,
+    target: &Isometry3<f64>,
+    q: &[f64; 6],
+) -> Result<[f64; 6], RobotError> {
+    IkMemo::get(
+        ctx.memo,
+        || key_bits(3, solver.arm(), &[target], Some(q), &[]),
+        || solver.solve_near(target, q).map(|q| vec![q]),
+    )
+    .map(|v| v[0])
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -225,7 +258,7 @@ pub(super) fn joint_move(
             || solver.solve_any(target).map(|q| vec![q]),
         )?[0]
     } else {
-        solver.solve_near(target, q)?
+        near_memo(ctx, solver, target, q)?
     };
     let joint = vec![*q, qt];
     if ctx.scope != Scope::Full {
@@ -235,14 +268,14 @@ pub(super) fn joint_move(
         Ok(()) => return Ok(vec![joint]),
         Err(e) => e,
     };
-    if let Ok(line) = follow_line(solver, q, &from, target, what) {
+    if let Ok(line) = line_memo(ctx, solver, q, &from, target, what, LINE_TOLERANCE) {
         if check(&line, min_clear, 0.0).is_ok() {
             return Ok(vec![line]);
         }
     }
     let zt = crate::motion::keypoints::transfer_z(ctx.inst);
     for h in [zt, zt + HIGH_TRANSFER_LIFT] {
-        if let Some(legs) = move_at_height(solver, q, &from, target, h, what, &check, min_clear) {
+        if let Some(legs) = move_at_height(ctx, solver, q, &from, target, h, what, &check, min_clear) {
             return Ok(legs);
         }
     }
@@ -257,6 +290,7 @@ type SampleCheck<'a> = dyn Fn(&[[f64; 6]], &mut f64, f64) -> Result<(), RobotErr
 /// neither end is below `h` (then this is the direct move, already tried).
 #[allow(clippy::too_many_arguments)]
 fn move_at_height(
+    ctx: &Ctx,
     solver: &IkSolver,
     q: &[f64; 6],
     from: &Isometry3<f64>,
@@ -282,7 +316,7 @@ fn move_at_height(
     let (mut q1, mut p1) = (*q, *from);
     if rise_start {
         let up = raise(from);
-        let rise = follow_line(solver, q, from, &up, what).ok()?;
+        let rise = line_memo(ctx, solver, q, from, &up, what, LINE_TOLERANCE).ok()?;
         check(&rise, min_clear, 0.0).ok()?;
         q1 = *rise.last().expect("non-empty");
         p1 = up;
@@ -290,12 +324,12 @@ fn move_at_height(
     }
     let top = if descend { raise(target) } else { *target };
     let across = {
-        let qt = solver.solve_near(&top, &q1).ok()?;
+        let qt = near_memo(ctx, solver, &top, &q1).ok()?;
         let joint = vec![q1, qt];
         if check(&joint, min_clear, JOINT_MOVE_MARGIN).is_ok() {
             joint
         } else {
-            let line = follow_line(solver, &q1, &p1, &top, what).ok()?;
+            let line = line_memo(ctx, solver, &q1, &p1, &top, what, LINE_TOLERANCE).ok()?;
             check(&line, min_clear, 0.0).ok()?;
             line
         }
@@ -303,7 +337,7 @@ fn move_at_height(
     let q2 = *across.last().expect("non-empty");
     legs.push(across);
     if descend {
-        let down = follow_line(solver, &q2, &top, target, what).ok()?;
+        let down = line_memo(ctx, solver, &q2, &top, target, what, LINE_TOLERANCE).ok()?;
         check(&down, min_clear, 0.0).ok()?;
         legs.push(down);
     }
