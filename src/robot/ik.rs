@@ -221,13 +221,17 @@ impl<'a> IkSolver<'a> {
         let mut cost = e.norm_squared();
         let mut lambda = 1e-3;
         let mut at_limit = None;
+        // The residual and the normal equations of the current point, kept while steps are
+        // rejected: a rejected step changes only the damping, so recomputing them gave the
+        // same numbers (most iterations of a descent that does not converge are rejections).
+        let mut residual = pose_residual(&cur, target);
+        let mut normal: Option<(Matrix6<f64>, Vector6<f64>)> = None;
         for _ in 0..self.max_iters {
-            let (dp, dr) = pose_residual(&cur, target);
+            let (dp, dr) = residual;
             if dp < self.tol_pos && dr < self.tol_rot {
                 break;
             }
-            let jtj = jac.transpose() * jac;
-            let g = jac.transpose() * e;
+            let (jtj, g) = *normal.get_or_insert_with(|| (jac.transpose() * jac, jac.transpose() * e));
             let mut a = jtj;
             for k in 0..6 {
                 a[(k, k)] += lambda * (jtj[(k, k)] + 1e-9);
@@ -252,6 +256,8 @@ impl<'a> IkSolver<'a> {
                 cost = costn;
                 at_limit = pinned;
                 lambda = (lambda / 5.0).max(1e-12);
+                residual = pose_residual(&cur, target);
+                normal = None;
             } else {
                 lambda *= 4.0;
                 if lambda > 1e8 {
@@ -259,7 +265,7 @@ impl<'a> IkSolver<'a> {
                 }
             }
         }
-        let (pos, rot) = pose_residual(&cur, target);
+        let (pos, rot) = residual;
         Attempt { q, pos, rot, at_limit }
     }
 
