@@ -180,21 +180,25 @@ pub(super) fn check_samples(
     let report_clearance = ctx.scope == Scope::Full;
     for (k, q) in qs.iter().enumerate() {
         let parts = robot_parts(model, ctx.inst, arm, q, hand);
+        let grown_parts;
         let tested = if margin > 0.0 {
-            grown(&parts, margin)
+            grown_parts = grown(&parts, margin);
+            &grown_parts
         } else {
-            parts.clone()
+            &parts
         };
-        let tcp = solver.fk(q).translation.vector;
+        // Only a push's moving obstacles and the error need the TCP: most samples spare it.
+        let tcp = || solver.fk(q).translation.vector;
         let moved_obs;
         let obs = if moving {
-            moved_obs = ctx.obstacles(action, seg, Some(&tcp));
+            moved_obs = ctx.obstacles(action, seg, Some(&tcp()));
             &moved_obs
         } else {
             &fixed_obs
         };
         let skip = Ctx::skip(action, seg);
-        if let Some((p, o)) = first_collision(&tested, obs, &skip) {
+        if let Some((p, o)) = first_collision(tested, obs, &skip) {
+            let tcp = tcp();
             return Err(RobotError::Collision {
                 what: what.to_string(),
                 part: p.name.clone(),
