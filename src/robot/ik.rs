@@ -236,7 +236,7 @@ impl<'a> IkSolver<'a> {
             for k in 0..6 {
                 a[(k, k)] += lambda * (jtj[(k, k)] + 1e-9);
             }
-            let Some(delta) = a.cholesky().map(|c| c.solve(&g)) else {
+            let Some(delta) = super::cholesky::solve6(&a, &g) else {
                 lambda *= 10.0;
                 continue;
             };

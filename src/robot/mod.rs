@@ -13,6 +13,7 @@
 //! What the robot does with the model (key points, joint plans, cell collisions, time
 //! parameterisation) is the [`crate::motion`] stage.
 
+mod cholesky;
 pub mod ik;
 
 pub use crate::geometry::Arm;
