@@ -167,51 +167,102 @@ pub(super) fn check_samples(
     if ctx.scope == Scope::Kinematic {
         return Ok(());
     }
-    let model = &ctx.inst.robot.model;
-    let arm = solver.arm();
     let moving = matches!(action, Action::Push { .. }) && seg == 2;
     let fixed_obs = if moving {
         Vec::new()
     } else {
         ctx.obstacles(action, seg, None)
     };
-    // The predicate discards the clearance (its answer is yes/no and the joint cost), and the
-    // distance queries cost more than the boolean test they would follow.
-    let report_clearance = ctx.scope == Scope::Full;
-    for (k, q) in qs.iter().enumerate() {
-        let parts = robot_parts(model, ctx.inst, arm, q, hand);
-        let grown_parts;
-        let tested = if margin > 0.0 {
-            grown_parts = grown(&parts, margin);
-            &grown_parts
-        } else {
-            &parts
-        };
-        // Only a push's moving obstacles and the error need the TCP: most samples spare it.
-        let tcp = || solver.fk(q).translation.vector;
-        let moved_obs;
-        let obs = if moving {
-            moved_obs = ctx.obstacles(action, seg, Some(&tcp()));
-            &moved_obs
-        } else {
-            &fixed_obs
-        };
-        let skip = Ctx::skip(action, seg);
-        if let Some((p, o)) = first_collision(tested, obs, &skip) {
-            let tcp = tcp();
-            return Err(RobotError::Collision {
-                what: what.to_string(),
-                part: p.name.clone(),
-                obstacle: o.name.clone(),
-                tcp: [tcp.x, tcp.y, tcp.z],
-            });
+    let samples = Samples {
+        ctx,
+        solver,
+        action,
+        seg,
+        hand,
+        qs,
+        fixed_obs: &fixed_obs,
+        moving,
+        margin,
+    };
+    // The predicate checks the same lines for many actions (the table half of a place is the
+    // same for every release mode, and for both hand turns in the container), so its answers
+    // are memoised by everything the check reads. It keeps no clearance.
+    let hit = match ctx.memo.filter(|_| ctx.scope == Scope::StaticLines && !moving) {
+        Some(memo) => {
+            let skipped = match action {
+                Action::Push { objects, .. } if seg >= 2 => Some(objects.as_slice()),
+                _ => None,
+            };
+            let key = check_key(solver.arm(), hand, margin, qs, &fixed_obs, skipped);
+            IkMemo::check(memo, key, || samples.first_hit(None))
         }
-        // Clearance report on a subset of samples (it is slower than the boolean test).
-        if report_clearance && (k % 8 == 0 || k + 1 == qs.len()) {
-            *min_clear = min_clear.min(clearance(&parts, obs, &skip));
-        }
+        // Only the joint plan reports clearances; the distance queries cost more than the
+        // boolean test they follow.
+        None => samples.first_hit((ctx.scope == Scope::Full).then_some(min_clear)),
+    };
+    match hit {
+        None => Ok(()),
+        Some((part, obstacle, tcp)) => Err(RobotError::Collision {
+            what: what.to_string(),
+            part,
+            obstacle,
+            tcp,
+        }),
     }
-    Ok(())
+}
+
+/// The inputs of one [`check_samples`].
+struct Samples<'c> {
+    ctx: &'c Ctx<'c>,
+    solver: &'c IkSolver<'c>,
+    action: &'c Action,
+    seg: usize,
+    hand: &'c Hand,
+    qs: &'c [[f64; 6]],
+    /// The obstacles unless they move with the TCP (`moving`: a push's pushed objects).
+    fixed_obs: &'c [Obstacle],
+    moving: bool,
+    margin: f64,
+}
+
+impl Samples<'_> {
+    /// The first sample's first collision, lowering `min_clear` (when given) to the clearance
+    /// of the samples before it.
+    fn first_hit(&self, mut min_clear: Option<&mut f64>) -> Option<Hit> {
+        let (ctx, solver, action, seg) = (self.ctx, self.solver, self.action, self.seg);
+        let model = &ctx.inst.robot.model;
+        let skip = Ctx::skip(action, seg);
+        for (k, q) in self.qs.iter().enumerate() {
+            let parts = robot_parts(model, ctx.inst, solver.arm(), q, self.hand);
+            let grown_parts;
+            let tested = if self.margin > 0.0 {
+                grown_parts = grown(&parts, self.margin);
+                &grown_parts
+            } else {
+                &parts
+            };
+            // Only a push's moving obstacles and the error need the TCP: most samples spare it.
+            let tcp = || solver.fk(q).translation.vector;
+            let moved_obs;
+            let obs = if self.moving {
+                moved_obs = ctx.obstacles(action, seg, Some(&tcp()));
+                &moved_obs
+            } else {
+                self.fixed_obs
+            };
+            if let Some((p, o)) = first_collision(tested, obs, &skip) {
+                let tcp = tcp();
+                return Some((p.name.clone(), o.name.clone(), [tcp.x, tcp.y, tcp.z]));
+            }
+            // Clearance report on a subset of samples (it is slower than the boolean test).
+            if let Some(mc) = min_clear.as_deref_mut() {
+                if k % 8 == 0 || k + 1 == self.qs.len() {
+                    *mc = mc.min(clearance(&parts, obs, &skip));
+                }
+            }
+        }
+        None
+    }
 }
 
 /// Dense samples of a waypoint path for collision checks: every waypoint and intermediate
