@@ -115,9 +115,7 @@ pub(super) fn refine(
 ) -> Result<(), RobotError> {
     let q0 = *out.last().expect("starts with q0");
     let target = interp_pose(a, b, s1);
-    let q1 = solver
-        .track(&target, &q0)
-        .or_else(|_| solver.solve_near(&target, &q0))?;
+    let q1 = solver.track_or_near(&target, &q0)?;
     let jump = max_abs_diff(&q0, &q1);
     let (pa, pb) = (a.translation.vector, b.translation.vector);
     // Position off the line, and orientation off the interpolated one: a held box reaches
