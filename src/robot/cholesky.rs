@@ -19,23 +19,25 @@ pub(super) fn solve6(a: &Matrix6<f64>, g: &Vector6<f64>) -> Option<Vector6<f64>>
         }
     }
     for j in 0..6 {
-        for k in 0..j {
+        let (done, rest) = l.split_at_mut(j);
+        let col_j = &mut rest[0];
+        for col_k in done.iter() {
             // nalgebra: col_j[j..].axpy(-l[j][k], &col_k[j..], 1), i.e. y = a·x·1 + 1·y (the
-            // products by one are exact).
-            let factor = -l[k][j];
-            for i in j..6 {
-                l[j][i] = factor * l[k][i] + l[j][i];
+            // products by one are exact, and so is swapping the terms of a sum).
+            let factor = -col_k[j];
+            for (y, x) in col_j[j..].iter_mut().zip(&col_k[j..]) {
+                *y += factor * x;
             }
         }
-        let diag = l[j][j];
+        let diag = col_j[j];
         // `is_zero`, then `try_sqrt` (which refuses negatives and NaN).
         if diag == 0.0 || diag.is_nan() || diag < 0.0 {
             return None;
         }
         let denom = diag.sqrt();
-        l[j][j] = denom;
-        for i in j + 1..6 {
-            l[j][i] /= denom;
+        col_j[j] = denom;
+        for v in &mut col_j[j + 1..] {
+            *v /= denom;
         }
     }
     let mut b = [g[0], g[1], g[2], g[3], g[4], g[5]];
@@ -43,8 +45,8 @@ pub(super) fn solve6(a: &Matrix6<f64>, g: &Vector6<f64>) -> Option<Vector6<f64>>
     for i in 0..6 {
         let coeff = b[i] / l[i][i];
         b[i] = coeff;
-        for r in i + 1..6 {
-            b[r] = -coeff * l[i][r] + b[r];
+        for (y, x) in b[i + 1..].iter_mut().zip(&l[i][i + 1..]) {
+            *y += -coeff * x;
         }
     }
     // Lᵀ x = y: nalgebra's `ad_solve_lower_triangular_unchecked_mut`, whose dot product over
