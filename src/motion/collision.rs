@@ -13,7 +13,7 @@ use crate::geometry::parry_bridge::{solids_distance, solids_intersect, Solid};
 use crate::geometry::Arm;
 use crate::geometry::{Box3, Rect};
 use crate::instance::Instance;
-use crate::robot::RobotModel;
+use crate::robot::{tcp_from_wrist, RobotModel};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 /// Penetration below this (m) counts as touching, not as a collision. Objects are packed with
@@ -222,7 +222,9 @@ pub fn robot_parts(model: &RobotModel, inst: &Instance, arm: Arm, q: &[f64; 6], 
             }
         })
         .collect();
-    let tcp = model.tcp_pose(arm, q, &inst.robot.tcp_offset);
+    // The wrist frame is the last link frame: no second pass down the chain.
+    debug_assert_eq!(frames[5], model.wrist_pose(arm, q));
+    let tcp = tcp_from_wrist(&frames[5], &inst.robot.tcp_offset);
     let g = &inst.gripper;
     // The plates run from the TCP up to the hand (validation keeps that at least
     // `finger_length`), so nothing can pass between the fingertips and the housing.

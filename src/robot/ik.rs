@@ -17,6 +17,8 @@
 
 use super::{tcp_rotation_in_wrist, Arm, RobotError, RobotModel};
 use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 /// Rotation of a top-down TCP frame whose finger closing axis (TCP y) makes angle `yaw` with
 /// world x: z = (0, 0, −1), y = (cos yaw, sin yaw, 0), x = y × z.
@@ -71,7 +73,15 @@ pub struct IkSolver<'a> {
     /// trying other seeds when no joint moved more than this (rad, default 1.0; a wrist flip
     /// moves joints 3–5 by about π).
     pub near_jump: f64,
+    /// The descents from the solver's own seeds by target and descent settings, in seed order
+    /// (see [`IkSolver::run_seeds_until`]): they do not depend on the caller's configuration,
+    /// and the joint plan asks for one target from several (the hand variants of an action
+    /// share their poses, and a failed local descent falls back to every seed).
+    seed_runs: RefCell<HashMap<SeedKey, Vec<Attempt>>>,
 }
+
+/// A target's bits and the settings a descent reads (iteration cap, tolerances).
+type SeedKey = [u64; 10];
 
 /// Number of pseudo-random seeds (besides the home pose and the caller's configuration).
 pub const RANDOM_SEEDS: usize = 40;
@@ -123,6 +133,7 @@ impl<'a> IkSolver<'a> {
             tol_pos: 1e-10,
             tol_rot: 1e-10,
             near_jump: 1.0,
+            seed_runs: RefCell::new(HashMap::new()),
         }
     }
 
@@ -221,18 +232,22 @@ impl<'a> IkSolver<'a> {
         let mut cost = e.norm_squared();
         let mut lambda = 1e-3;
         let mut at_limit = None;
+        // The residual and the normal equations of the current point, kept while steps are
+        // rejected: a rejected step changes only the damping, so recomputing them gave the
+        // same numbers (most iterations of a descent that does not converge are rejections).
+        let mut residual = pose_residual(&cur, target);
+        let mut normal: Option<(Matrix6<f64>, Vector6<f64>)> = None;
         for _ in 0..self.max_iters {
-            let (dp, dr) = pose_residual(&cur, target);
+            let (dp, dr) = residual;
             if dp < self.tol_pos && dr < self.tol_rot {
                 break;
             }
-            let jtj = jac.transpose() * jac;
-            let g = jac.transpose() * e;
+            let (jtj, g) = *normal.get_or_insert_with(|| (jac.transpose() * jac, jac.transpose() * e));
             let mut a = jtj;
             for k in 0..6 {
                 a[(k, k)] += lambda * (jtj[(k, k)] + 1e-9);
             }
-            let Some(delta) = a.cholesky().map(|c| c.solve(&g)) else {
+            let Some(delta) = super::cholesky::solve6(&a, &g) else {
                 lambda *= 10.0;
                 continue;
             };
@@ -252,6 +267,8 @@ impl<'a> IkSolver<'a> {
                 cost = costn;
                 at_limit = pinned;
                 lambda = (lambda / 5.0).max(1e-12);
+                residual = pose_residual(&cur, target);
+                normal = None;
             } else {
                 lambda *= 4.0;
                 if lambda > 1e8 {
@@ -259,7 +276,7 @@ impl<'a> IkSolver<'a> {
                 }
             }
         }
-        let (pos, rot) = pose_residual(&cur, target);
+        let (pos, rot) = residual;
         Attempt { q, pos, rot, at_limit }
     }
 
@@ -292,33 +309,54 @@ impl<'a> IkSolver<'a> {
         sols.into_iter().next().ok_or_else(|| self.failure(target, best, n))
     }
 
-    fn run_seeds(&self, target: &Isometry3<f64>, first: Option<&[f64; 6]>) -> (Vec<[f64; 6]>, Option<Attempt>, usize) {
+    fn run_seeds(
+        &self,
+        target: &Isometry3<f64>,
+        first: Option<&[Attempt; 2]>,
+    ) -> (Vec<[f64; 6]>, Option<Attempt>, usize) {
         self.run_seeds_until(target, first, false)
     }
 
+    /// Descents from the caller's seed (`first`: its two descents, already made), then from the
+    /// solver's seeds in order: every distinct solution, the best failure and the number of
+    /// descents. The solver's seeds' descents come from `seed_runs` when an earlier call made
+    /// them: a descent is a pure function of its target, seed, roll and settings.
     fn run_seeds_until(
         &self,
         target: &Isometry3<f64>,
-        first: Option<&[f64; 6]>,
+        first: Option<&[Attempt; 2]>,
         stop_at_first: bool,
     ) -> (Vec<[f64; 6]>, Option<Attempt>, usize) {
         let mut sols: Vec<[f64; 6]> = Vec::new();
         let mut best: Option<Attempt> = None;
         let mut n = 0;
         let main = 1 + RANDOM_SEEDS.min(self.seeds.len());
-        for (i, s) in first.into_iter().chain(self.seeds.iter()).enumerate() {
-            if i >= main + first.is_some() as usize && !sols.is_empty() {
+        let key = self.seed_key(target);
+        let mut runs = self.seed_runs.borrow_mut().remove(&key).unwrap_or_default();
+        let offset = first.is_some() as usize;
+        'seeds: for i in 0..self.seeds.len() + offset {
+            if i >= main + offset && !sols.is_empty() {
                 break;
             }
-            for roll in [false, true] {
+            for (r, roll) in [false, true].into_iter().enumerate() {
                 n += 1;
-                let a = self.descend(target, s, roll);
+                let a = match (first, i.checked_sub(offset)) {
+                    (Some(f), None) => f[r].clone(),
+                    (_, Some(k)) => {
+                        // Made in order, so the next one missing is always at the end.
+                        if 2 * k + r == runs.len() {
+                            runs.push(self.descend(target, &self.seeds[k], roll));
+                        }
+                        runs[2 * k + r].clone()
+                    }
+                    (None, None) => unreachable!("without a first seed every index is a seed's"),
+                };
                 if self.converged(&a) {
                     if !sols.iter().any(|o| (0..6).all(|k| (o[k] - a.q[k]).abs() < 1e-6)) {
                         sols.push(a.q);
                     }
                     if stop_at_first {
-                        return (sols, best, n);
+                        break 'seeds;
                     }
                 } else if best
                     .as_ref()
@@ -328,7 +366,26 @@ impl<'a> IkSolver<'a> {
                 }
             }
         }
+        self.seed_runs.borrow_mut().insert(key, runs);
         (sols, best, n)
+    }
+
+    /// The key of `target`'s descents in `seed_runs`.
+    fn seed_key(&self, target: &Isometry3<f64>) -> SeedKey {
+        let t = target.translation.vector;
+        let r = target.rotation.coords;
+        [
+            t.x.to_bits(),
+            t.y.to_bits(),
+            t.z.to_bits(),
+            r.x.to_bits(),
+            r.y.to_bits(),
+            r.z.to_bits(),
+            r.w.to_bits(),
+            self.max_iters as u64,
+            self.tol_pos.to_bits(),
+            self.tol_rot.to_bits(),
+        ]
     }
 
     /// Every distinct solution the seeds find (possibly empty).
@@ -352,20 +409,43 @@ impl<'a> IkSolver<'a> {
     /// converges without any joint moving more than [`IkSolver::near_jump`]; otherwise every seed
     /// is tried and the nearest solution (max |Δq| + 0.1 Σ|Δq| smallest) wins.
     pub fn solve_near(&self, target: &Isometry3<f64>, prev: &[f64; 6]) -> Result<[f64; 6], RobotError> {
+        self.solve_near_after(target, prev, None)
+    }
+
+    /// [`Self::solve_near`] given its first local descent (without the wrist roll) when the
+    /// caller made it already.
+    fn solve_near_after(
+        &self,
+        target: &Isometry3<f64>,
+        prev: &[f64; 6],
+        plain: Option<Attempt>,
+    ) -> Result<[f64; 6], RobotError> {
         // Local descents from `prev` (as is, then with the closed-form wrist roll): the nearer
         // converged one is taken when no joint moved more than `near_jump`.
-        let local = [false, true]
-            .into_iter()
-            .map(|roll| self.descend(target, prev, roll))
+        let plain = plain.unwrap_or_else(|| self.descend(target, prev, false));
+        let local = [plain, self.descend(target, prev, true)];
+        let near = local
+            .iter()
             .filter(|a| self.converged(a) && max_abs_diff(&a.q, prev) <= self.near_jump)
             .min_by(|x, y| weighted_dist(&x.q, prev).total_cmp(&weighted_dist(&y.q, prev)));
-        if let Some(a) = local {
+        if let Some(a) = near {
             return Ok(a.q);
         }
-        let (sols, best, n) = self.run_seeds(target, Some(prev));
+        // Every seed, `prev` first: its descents are the local ones.
+        let (sols, best, n) = self.run_seeds(target, Some(&local));
         sols.into_iter()
             .min_by(|x, y| weighted_dist(x, prev).total_cmp(&weighted_dist(y, prev)))
             .ok_or_else(|| self.failure(target, best, n + 1))
+    }
+
+    /// [`Self::track`], and where that fails [`Self::solve_near`] (which starts with the same
+    /// descent, made once here).
+    pub fn track_or_near(&self, target: &Isometry3<f64>, prev: &[f64; 6]) -> Result<[f64; 6], RobotError> {
+        let a = self.descend(target, prev, false);
+        if self.converged(&a) {
+            return Ok(a.q);
+        }
+        self.solve_near_after(target, prev, Some(a))
     }
 
     /// Only a local descent from `prev`, no other seed: for dense path following.

@@ -13,6 +13,7 @@
 //! What the robot does with the model (key points, joint plans, cell collisions, time
 //! parameterisation) is the [`crate::motion`] stage.
 
+mod cholesky;
 pub mod ik;
 
 pub use crate::geometry::Arm;
@@ -264,11 +265,7 @@ impl RobotModel {
 
     /// Full TCP pose (position and TCP-frame rotation) in the WAIST frame.
     pub fn tcp_pose(&self, arm: Arm, q: &[f64; 6], tcp_offset: &[f64; 3]) -> Isometry3<f64> {
-        let w = self.wrist_pose(arm, q);
-        w * Isometry3::from_parts(
-            Translation3::from(Vector3::from(*tcp_offset)),
-            UnitQuaternion::from_rotation_matrix(&tcp_rotation_in_wrist()),
-        )
+        tcp_from_wrist(&self.wrist_pose(arm, q), tcp_offset)
     }
 
     /// Smallest distance of any joint to its nearest limit (rad); negative when outside.
@@ -292,7 +289,8 @@ impl RobotModel {
         })
     }
 
-    /// Pose of `*ARM_JOINT5_Link` in the WAIST frame.
+    /// Pose of `*ARM_JOINT5_Link` in the WAIST frame (the same numbers as the last of
+    /// [`Self::link_frames`]: the same products in the same order).
     pub fn wrist_pose(&self, arm: Arm, q: &[f64; 6]) -> Isometry3<f64> {
         let mut t = self.base[arm.index()];
         for (j, qi) in self.arms[arm.index()].iter().zip(q) {
@@ -396,6 +394,16 @@ fn collect_shapes(
             }
         }
     }
+}
+
+/// The TCP pose of a wrist (`*ARM_JOINT5_Link`) pose: [`RobotModel::tcp_pose`] from a wrist
+/// pose already at hand.
+pub fn tcp_from_wrist(wrist: &Isometry3<f64>, tcp_offset: &[f64; 3]) -> Isometry3<f64> {
+    wrist
+        * Isometry3::from_parts(
+            Translation3::from(Vector3::from(*tcp_offset)),
+            UnitQuaternion::from_rotation_matrix(&tcp_rotation_in_wrist()),
+        )
 }
 
 #[cfg(test)]

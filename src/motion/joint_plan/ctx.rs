@@ -1,6 +1,7 @@
 //! The context of planning one action, and the memo of inverse-kinematics results.
 
 use super::*;
+use crate::geometry::parry_bridge::Solid;
 
 /// The context of planning one action.
 pub(super) struct Ctx<'a> {
@@ -19,16 +20,79 @@ pub(super) struct Ctx<'a> {
     pub(super) memo: Option<&'a RefCell<IkMemo>>,
 }
 
-/// IK results of the reachability predicate by their exact inputs. Actions of one object share
-/// their table half (pre-grasp, grasp, lift: the same poses for every release mode), and an
-/// unreachable pose costs a search over every IK seed, so repeating it per mode dominated the
-/// predicate's time.
+/// IK results by their exact inputs, for one instance: the reachability predicate's (actions of
+/// one object share their table half, pre-grasp, grasp, lift: the same poses for every release
+/// mode, and an unreachable pose costs a search over every IK seed, so repeating it per mode
+/// dominated the predicate's time) and the joint plan's. Each entry is what the call computes
+/// from its key, so a hit changes no answer.
 #[derive(Debug, Default)]
 pub struct IkMemo {
     map: HashMap<Vec<u64>, Result<Vec<[f64; 6]>, RobotError>>,
+    /// Collision checks of the predicate's straight lines by their exact inputs (see
+    /// [`check_key`]): the first collision's part, obstacle and TCP, or none.
+    checks: HashMap<Vec<u64>, Option<Hit>>,
+}
+
+/// A collision found by a sample check: part, obstacle, TCP (the error without its move name).
+pub(super) type Hit = (String, String, [f64; 3]);
+
+/// Everything a collision check of sampled configurations reads besides the instance: arm,
+/// hand, margin, the samples, the obstacles (name, kind, solid and pose of each) and which pairs
+/// are skipped (the pusher on the pushed objects, from the segment on).
+pub(super) fn check_key(
+    arm: Arm,
+    hand: &Hand,
+    margin: f64,
+    qs: &[[f64; 6]],
+    obstacles: &[Obstacle],
+    skipped: Option<&[usize]>,
+) -> Vec<u64> {
+    let mut k = vec![arm.index() as u64, hand.opening.to_bits(), margin.to_bits()];
+    match hand.held {
+        None => k.push(0),
+        Some(h) => k.extend([
+            1,
+            h.object as u64,
+            h.closing.to_bits(),
+            h.other.to_bits(),
+            h.height.to_bits(),
+        ]),
+    }
+    match skipped {
+        None => k.push(0),
+        Some(objects) => {
+            k.extend([1, objects.len() as u64]);
+            k.extend(objects.iter().map(|&i| i as u64));
+        }
+    }
+    k.push(qs.len() as u64);
+    k.extend(qs.iter().flatten().map(|x| x.to_bits()));
+    k.push(obstacles.len() as u64);
+    for o in obstacles {
+        k.push(o.name.len() as u64);
+        k.extend(o.name.bytes().map(u64::from));
+        k.push(match o.kind {
+            ObstacleKind::Wall(w) => w as u64,
+            ObstacleKind::Floor => 100,
+            ObstacleKind::Table => 101,
+            ObstacleKind::Object(i) => 1000 + i as u64,
+            ObstacleKind::OtherArm => 102,
+        });
+        let solid: Vec<f64> = match o.solid {
+            Solid::Cuboid { half } => vec![0.0, half.x, half.y, half.z],
+            Solid::Cylinder { radius, half_length } => vec![1.0, radius, half_length],
+            Solid::Capsule { a, b, radius } => vec![2.0, a.x, a.y, a.z, b.x, b.y, b.z, radius],
+            Solid::Ball { radius } => vec![3.0, radius],
+        };
+        k.extend(solid.iter().map(|x| x.to_bits()));
+        k.extend(o.pose.translation.vector.iter().map(|x| x.to_bits()));
+        k.extend(o.pose.rotation.coords.iter().map(|x| x.to_bits()));
+    }
+    k
 }
 
 impl IkMemo {
+    /// The memoised result with key `key()`, else `f`'s, remembered (nothing without a memo).
     pub(super) fn get(
         cell: Option<&RefCell<IkMemo>>,
         key: impl FnOnce() -> Vec<u64>,
@@ -43,6 +107,16 @@ impl IkMemo {
         }
         let v = f();
         cell.borrow_mut().map.insert(k, v.clone());
+        v
+    }
+
+    /// The memoised answer of the check with key `key`, else `f`'s, remembered.
+    pub(super) fn check(cell: &RefCell<IkMemo>, key: Vec<u64>, f: impl FnOnce() -> Option<Hit>) -> Option<Hit> {
+        if let Some(v) = cell.borrow().checks.get(&key) {
+            return v.clone();
+        }
+        let v = f();
+        cell.borrow_mut().checks.insert(key, v.clone());
         v
     }
 }
@@ -160,6 +234,7 @@ impl Ctx<'_> {
     }
 
     /// Pairs that are allowed to touch beyond the tolerance: the pusher on the pushed line.
+    /// ([`check_key`] holds what this reads: change both together.)
     pub(super) fn skip(action: &Action, seg: usize) -> impl Fn(&Part, &Obstacle) -> bool + '_ {
         move |p: &Part, o: &Obstacle| match (action, o.kind) {
             (Action::Push { objects, .. }, ObstacleKind::Object(i)) => {

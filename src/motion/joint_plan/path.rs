@@ -33,19 +33,9 @@ pub fn line_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f6
     (p - (a + ab * u)).norm()
 }
 
-/// Follow the straight line a → b from configuration `q0` (at a).
-pub(super) fn follow_line(
-    solver: &IkSolver,
-    q0: &[f64; 6],
-    a: &Isometry3<f64>,
-    b: &Isometry3<f64>,
-    what: &str,
-) -> Result<Vec<[f64; 6]>, RobotError> {
-    follow_line_tol(solver, q0, a, b, what, LINE_TOLERANCE)
-}
-
-/// [`follow_line`] with another position tolerance (the predicate only needs to know that the
-/// line can be followed, not the fine waypoints the joint plan emits).
+/// Follow the straight line a → b from configuration `q0` (at a), within position tolerance `tol`
+/// (the predicate only needs to know that the line can be followed, not the fine waypoints the
+/// joint plan emits).
 pub(super) fn follow_line_tol(
     solver: &IkSolver,
     q0: &[f64; 6],
@@ -67,6 +57,49 @@ pub(super) fn follow_line_tol(
     Ok(out)
 }
 
+/// [`follow_line_tol`] through the context's memo (a pure function of its inputs, so a hit is
+/// the same answer). The predicate only asks whether a line can be followed, so it shares a
+/// line between actions whatever the move is called; the joint plan keeps the error, which
+/// names the move, so its key holds the name too.
+pub(super) fn line_memo(
+    ctx: &Ctx,
+    solver: &IkSolver,
+    q0: &[f64; 6],
+    a: &Isometry3<f64>,
+    b: &Isometry3<f64>,
+    what: &str,
+    tol: f64,
+) -> Result<Vec<[f64; 6]>, RobotError> {
+    IkMemo::get(
+        ctx.memo,
+        || {
+            let mut k = key_bits(2, solver.arm(), &[a, b], Some(q0), &[tol]);
+            if !ctx.fast_ik {
+                k.extend(what.bytes().map(u64::from));
+            }
+            k
+        },
+        || follow_line_tol(solver, q0, a, b, what, tol),
+    )
+}
+
+/// [`IkSolver::solve_near`] through the context's memo. The hand variants of an action share
+/// their table half, and the joint plan's kinematic ranking pass solves the same poses as its
+/// full pass: without the memo each repeat costs a descent from every IK seed.
+pub(super) fn near_memo(
+    ctx: &Ctx,
+    solver: &IkSolver,
+    target: &Isometry3<f64>,
+    q: &[f64; 6],
+) -> Result<[f64; 6], RobotError> {
+    IkMemo::get(
+        ctx.memo,
+        || key_bits(3, solver.arm(), &[target], Some(q), &[]),
+        || solver.solve_near(target, q).map(|q| vec![q]),
+    )
+    .map(|v| v[0])
+}
+
 #[allow(clippy::too_many_arguments)]
 pub(super) fn refine(
     solver: &IkSolver,
@@ -82,9 +115,7 @@ pub(super) fn refine(
 ) -> Result<(), RobotError> {
     let q0 = *out.last().expect("starts with q0");
     let target = interp_pose(a, b, s1);
-    let q1 = solver
-        .track(&target, &q0)
-        .or_else(|_| solver.solve_near(&target, &q0))?;
+    let q1 = solver.track_or_near(&target, &q0)?;
     let jump = max_abs_diff(&q0, &q1);
     let (pa, pb) = (a.translation.vector, b.translation.vector);
     // Position off the line, and orientation off the interpolated one: a held box reaches
@@ -134,47 +165,102 @@ pub(super) fn check_samples(
     if ctx.scope == Scope::Kinematic {
         return Ok(());
     }
-    let model = &ctx.inst.robot.model;
-    let arm = solver.arm();
     let moving = matches!(action, Action::Push { .. }) && seg == 2;
     let fixed_obs = if moving {
         Vec::new()
     } else {
         ctx.obstacles(action, seg, None)
     };
-    // The predicate discards the clearance (its answer is yes/no and the joint cost), and the
-    // distance queries cost more than the boolean test they would follow.
-    let report_clearance = ctx.scope == Scope::Full;
-    for (k, q) in qs.iter().enumerate() {
-        let parts = robot_parts(model, ctx.inst, arm, q, hand);
-        let tested = if margin > 0.0 {
-            grown(&parts, margin)
-        } else {
-            parts.clone()
-        };
-        let tcp = solver.fk(q).translation.vector;
-        let moved_obs;
-        let obs = if moving {
-            moved_obs = ctx.obstacles(action, seg, Some(&tcp));
-            &moved_obs
-        } else {
-            &fixed_obs
-        };
-        let skip = Ctx::skip(action, seg);
-        if let Some((p, o)) = first_collision(&tested, obs, &skip) {
-            return Err(RobotError::Collision {
-                what: what.to_string(),
-                part: p.name.clone(),
-                obstacle: o.name.clone(),
-                tcp: [tcp.x, tcp.y, tcp.z],
-            });
+    let samples = Samples {
+        ctx,
+        solver,
+        action,
+        seg,
+        hand,
+        qs,
+        fixed_obs: &fixed_obs,
+        moving,
+        margin,
+    };
+    // The predicate checks the same lines for many actions (the table half of a place is the
+    // same for every release mode, and for both hand turns in the container), so its answers
+    // are memoised by everything the check reads. It keeps no clearance.
+    let hit = match ctx.memo.filter(|_| ctx.scope == Scope::StaticLines && !moving) {
+        Some(memo) => {
+            let skipped = match action {
+                Action::Push { objects, .. } if seg >= 2 => Some(objects.as_slice()),
+                _ => None,
+            };
+            let key = check_key(solver.arm(), hand, margin, qs, &fixed_obs, skipped);
+            IkMemo::check(memo, key, || samples.first_hit(None))
         }
-        // Clearance report on a subset of samples (it is slower than the boolean test).
-        if report_clearance && (k % 8 == 0 || k + 1 == qs.len()) {
-            *min_clear = min_clear.min(clearance(&parts, obs, &skip));
-        }
+        // Only the joint plan reports clearances; the distance queries cost more than the
+        // boolean test they follow.
+        None => samples.first_hit((ctx.scope == Scope::Full).then_some(min_clear)),
+    };
+    match hit {
+        None => Ok(()),
+        Some((part, obstacle, tcp)) => Err(RobotError::Collision {
+            what: what.to_string(),
+            part,
+            obstacle,
+            tcp,
+        }),
     }
-    Ok(())
+}
+
+/// The inputs of one [`check_samples`].
+struct Samples<'c> {
+    ctx: &'c Ctx<'c>,
+    solver: &'c IkSolver<'c>,
+    action: &'c Action,
+    seg: usize,
+    hand: &'c Hand,
+    qs: &'c [[f64; 6]],
+    /// The obstacles unless they move with the TCP (`moving`: a push's pushed objects).
+    fixed_obs: &'c [Obstacle],
+    moving: bool,
+    margin: f64,
+}
+
+impl Samples<'_> {
+    /// The first sample's first collision, lowering `min_clear` (when given) to the clearance
+    /// of the samples before it.
+    fn first_hit(&self, mut min_clear: Option<&mut f64>) -> Option<Hit> {
+        let (ctx, solver, action, seg) = (self.ctx, self.solver, self.action, self.seg);
+        let model = &ctx.inst.robot.model;
+        let skip = Ctx::skip(action, seg);
+        for (k, q) in self.qs.iter().enumerate() {
+            let parts = robot_parts(model, ctx.inst, solver.arm(), q, self.hand);
+            let grown_parts;
+            let tested = if self.margin > 0.0 {
+                grown_parts = grown(&parts, self.margin);
+                &grown_parts
+            } else {
+                &parts
+            };
+            // Only a push's moving obstacles and the error need the TCP: most samples spare it.
+            let tcp = || solver.fk(q).translation.vector;
+            let moved_obs;
+            let obs = if self.moving {
+                moved_obs = ctx.obstacles(action, seg, Some(&tcp()));
+                &moved_obs
+            } else {
+                self.fixed_obs
+            };
+            if let Some((p, o)) = first_collision(tested, obs, &skip) {
+                let tcp = tcp();
+                return Some((p.name.clone(), o.name.clone(), [tcp.x, tcp.y, tcp.z]));
+            }
+            // Clearance report on a subset of samples (it is slower than the boolean test).
+            if let Some(mc) = min_clear.as_deref_mut() {
+                if k % 8 == 0 || k + 1 == self.qs.len() {
+                    *mc = mc.min(clearance(&parts, obs, &skip));
+                }
+            }
+        }
+        None
+    }
 }
 
 /// Dense samples of a waypoint path for collision checks: every waypoint and intermediate
@@ -225,7 +311,7 @@ pub(super) fn joint_move(
             || solver.solve_any(target).map(|q| vec![q]),
         )?[0]
     } else {
-        solver.solve_near(target, q)?
+        near_memo(ctx, solver, target, q)?
     };
     let joint = vec![*q, qt];
     if ctx.scope != Scope::Full {
@@ -235,14 +321,14 @@ pub(super) fn joint_move(
         Ok(()) => return Ok(vec![joint]),
         Err(e) => e,
     };
-    if let Ok(line) = follow_line(solver, q, &from, target, what) {
+    if let Ok(line) = line_memo(ctx, solver, q, &from, target, what, LINE_TOLERANCE) {
         if check(&line, min_clear, 0.0).is_ok() {
             return Ok(vec![line]);
         }
     }
     let zt = crate::motion::keypoints::transfer_z(ctx.inst);
     for h in [zt, zt + HIGH_TRANSFER_LIFT] {
-        if let Some(legs) = move_at_height(solver, q, &from, target, h, what, &check, min_clear) {
+        if let Some(legs) = move_at_height(ctx, solver, q, &from, target, h, what, &check, min_clear) {
             return Ok(legs);
         }
     }
@@ -257,6 +343,7 @@ type SampleCheck<'a> = dyn Fn(&[[f64; 6]], &mut f64, f64) -> Result<(), RobotErr
 /// neither end is below `h` (then this is the direct move, already tried).
 #[allow(clippy::too_many_arguments)]
 fn move_at_height(
+    ctx: &Ctx,
     solver: &IkSolver,
     q: &[f64; 6],
     from: &Isometry3<f64>,
@@ -282,7 +369,7 @@ fn move_at_height(
     let (mut q1, mut p1) = (*q, *from);
     if rise_start {
         let up = raise(from);
-        let rise = follow_line(solver, q, from, &up, what).ok()?;
+        let rise = line_memo(ctx, solver, q, from, &up, what, LINE_TOLERANCE).ok()?;
         check(&rise, min_clear, 0.0).ok()?;
         q1 = *rise.last().expect("non-empty");
         p1 = up;
@@ -290,12 +377,12 @@ fn move_at_height(
     }
     let top = if descend { raise(target) } else { *target };
     let across = {
-        let qt = solver.solve_near(&top, &q1).ok()?;
+        let qt = near_memo(ctx, solver, &top, &q1).ok()?;
         let joint = vec![q1, qt];
         if check(&joint, min_clear, JOINT_MOVE_MARGIN).is_ok() {
             joint
         } else {
-            let line = follow_line(solver, &q1, &p1, &top, what).ok()?;
+            let line = line_memo(ctx, solver, &q1, &p1, &top, what, LINE_TOLERANCE).ok()?;
             check(&line, min_clear, 0.0).ok()?;
             line
         }
@@ -303,7 +390,7 @@ fn move_at_height(
     let q2 = *across.last().expect("non-empty");
     legs.push(across);
     if descend {
-        let down = follow_line(solver, &q2, &top, target, what).ok()?;
+        let down = line_memo(ctx, solver, &q2, &top, target, what, LINE_TOLERANCE).ok()?;
         check(&down, min_clear, 0.0).ok()?;
         legs.push(down);
     }

@@ -37,6 +37,7 @@ pub(super) fn home_move(
     from: &[f64; 6],
     hand: Hand,
     other: Vec<Obstacle>,
+    memo: &RefCell<IkMemo>,
 ) -> Result<(Legs, f64), RobotError> {
     let ctx = Ctx {
         inst,
@@ -46,7 +47,7 @@ pub(super) fn home_move(
         other,
         scope: Scope::Full,
         fast_ik: false,
-        memo: None,
+        memo: Some(memo),
     };
     let solver = IkSolver::new(&inst.robot.model, arm, &inst.robot.tcp_offset);
     // Obstacles of an idle move = every object where it is (an empty push sees them so).
@@ -65,7 +66,7 @@ pub(super) fn home_move(
         .vector
         .z
         .max(crate::motion::keypoints::transfer_z(inst));
-    let via = solver.solve_near(&above, &home)?;
+    let via = near_memo(&ctx, &solver, &above, &home)?;
     let what = format!("{} arm back home", arm.name());
     let mut clear = f64::INFINITY;
     let mut legs = Vec::new();
@@ -85,7 +86,8 @@ pub(super) fn home_move(
         ) {
             Ok(()) => joint,
             Err(e) => {
-                let mut line = follow_line(&solver, &q, &solver.fk(&q), &target_pose, &what).map_err(|_| e.clone())?;
+                let mut line = line_memo(&ctx, &solver, &q, &solver.fk(&q), &target_pose, &what, LINE_TOLERANCE)
+                    .map_err(|_| e.clone())?;
                 if max_abs_diff(line.last().expect("non-empty"), &target_q) > 1e-6 {
                     return Err(e);
                 }
@@ -192,6 +194,10 @@ pub fn plan_trajectories_with(
     let mut out = Vec::new();
     let statics = static_obstacles(inst);
     let solvers = [Arm::Left, Arm::Right].map(|a| IkSolver::new(model, a, &inst.robot.tcp_offset));
+    // IK answers by their exact inputs, shared by every action: the kinematic pass that ranks an
+    // action's hand variants solves the poses its full pass solves again, variants share their
+    // table half, and parking and going home solve the same pose above home.
+    let memo = RefCell::new(IkMemo::default());
     let idle_obstacles =
         |arm: Arm, q: &[f64; 6], hand: &Hand| arm_as_obstacles(robot_parts(model, inst, arm, q, hand), arm);
     let simple_record = |label: String, arm: Arm, pts: Vec<TrajPoint>, t0: f64, t1: f64, clear: f64| ActionTrajectory {
@@ -243,7 +249,7 @@ pub fn plan_trajectories_with(
             other: idle_obstacles(other, &q_cur[other.index()], &hand_cur[other.index()]),
             scope: Scope::Full,
             fast_ik: false,
-            memo: None,
+            memo: Some(&memo),
         };
         let solver = &solvers[arm.index()];
         // An idle arm whose hand hangs over the container is in the way of every action there:
@@ -276,6 +282,7 @@ pub fn plan_trajectories_with(
                 &q_cur[other.index()],
                 hand_cur[other.index()],
                 idle_obstacles(arm, &q_cur[arm.index()], &hand_cur[arm.index()]),
+                &memo,
             );
             if let Ok((legs, clear)) = park {
                 let (pts, t1) = time_legs(&legs, &vmax(inst, other), opts, t);
@@ -358,6 +365,7 @@ pub fn plan_trajectories_with(
             &q_cur[arm.index()],
             hand_cur[arm.index()],
             idle_obstacles(other, &q_cur[other.index()], &hand_cur[other.index()]),
+            &memo,
         );
         match res {
             Ok((legs, clear)) => {

@@ -35,11 +35,7 @@ pub(super) fn plan_variant(
                 } else {
                     LINE_TOLERANCE
                 };
-                let p = IkMemo::get(
-                    ctx.memo,
-                    || key_bits(2, solver.arm(), &[&from, &sp.target], Some(&q), &[tol]),
-                    || follow_line_tol(solver, &q, &from, &sp.target, &what, tol),
-                )?;
+                let p = line_memo(ctx, solver, &q, &from, &sp.target, &what, tol)?;
                 check_samples(ctx, solver, action, k, &hand, &densify(&p), &what, &mut min_clear, 0.0)?;
                 vec![p]
             }
