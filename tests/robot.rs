@@ -9,7 +9,7 @@ use pushpack::instance::Instance;
 use pushpack::motion::collision::{first_collision, robot_parts, static_obstacles, Hand};
 use pushpack::motion::joint_plan::{line_distance, LINE_LIMIT};
 use pushpack::motion::trajectory::{time_segment, TrajectoryOptions};
-use pushpack::motion::{action_reachable, arms_reaching, select_arm};
+use pushpack::motion::{action_reachable, arms_reaching, select_arm, ActionTrajectory, KeyPose};
 use pushpack::plan::{optimize, PlanOptions, PlanOutcome};
 use pushpack::robot::ik::{pose_residual, top_down_pose, IkSolver};
 use pushpack::robot::NEXTAGE_INITIAL_POSE_DEG;
@@ -469,33 +469,40 @@ fn paper_plans_have_verified_collision_free_trajectories_for_every_action() {
     }
 }
 
+/// The farthest the TCP of `tr` comes from the line between key poses `s` and `e`, at its
+/// recorded points between them and at the fractions `us` of the way between consecutive points
+/// (joint positions interpolated linearly).
+fn off_line(inst: &Instance, tr: &ActionTrajectory, s: &KeyPose, e: &KeyPose, us: &[f64]) -> f64 {
+    let m = &inst.robot.model;
+    let (a, b) = (Vector3::from(s.position), Vector3::from(e.position));
+    let pts: Vec<_> = tr
+        .points
+        .iter()
+        .filter(|p| p.t >= s.t - 1e-9 && p.t <= e.t + 1e-9)
+        .collect();
+    assert!(pts.len() >= 2, "{}: {} has points", tr.label, e.label);
+    let mut worst: f64 = 0.0;
+    for w in pts.windows(2) {
+        for &u in us {
+            let q: [f64; 6] = std::array::from_fn(|j| w[0].positions[j] + u * (w[1].positions[j] - w[0].positions[j]));
+            worst = worst.max(line_distance(
+                &m.tcp_position(tr.arm, &q, &inst.robot.tcp_offset),
+                &a,
+                &b,
+            ));
+        }
+    }
+    worst
+}
+
 #[test]
 fn straight_line_pushes_stay_within_one_millimetre() {
     let mut pushes = 0;
     for (inst, out) in paper_plans() {
-        let m = &inst.robot.model;
         for tr in out.plan.trajectories.iter().filter(|t| t.label.starts_with("push")) {
             let s = tr.key_poses.iter().find(|k| k.label == "push-start").unwrap();
             let e = tr.key_poses.iter().find(|k| k.label == "push-end").unwrap();
-            let (a, b) = (Vector3::from(s.position), Vector3::from(e.position));
-            let pts: Vec<_> = tr
-                .points
-                .iter()
-                .filter(|p| p.t >= s.t - 1e-9 && p.t <= e.t + 1e-9)
-                .collect();
-            assert!(pts.len() >= 2);
-            let mut worst: f64 = 0.0;
-            for w in pts.windows(2) {
-                for u in [0.0, 0.25, 0.5, 0.75, 1.0] {
-                    let q: [f64; 6] =
-                        std::array::from_fn(|j| w[0].positions[j] + u * (w[1].positions[j] - w[0].positions[j]));
-                    worst = worst.max(line_distance(
-                        &m.tcp_position(tr.arm, &q, &inst.robot.tcp_offset),
-                        &a,
-                        &b,
-                    ));
-                }
-            }
+            let worst = off_line(inst, tr, s, e, &[0.0, 0.25, 0.5, 0.75, 1.0]);
             assert!(worst < LINE_LIMIT, "{}: {} deviates {worst:e} m", inst.name, tr.label);
             pushes += 1;
         }
@@ -520,31 +527,12 @@ fn straight_cartesian_moves_stay_straight_after_smoothing() {
     ];
     let (mut lines, mut worst_all) = (0, 0.0f64);
     for (inst, out) in paper_plans() {
-        let m = &inst.robot.model;
         for tr in out.plan.trajectories.iter().filter(|t| t.action.is_some()) {
             for k in tr.key_poses.windows(2) {
                 if !LINES.contains(&k[1].label.as_str()) {
                     continue;
                 }
-                let (a, b) = (Vector3::from(k[0].position), Vector3::from(k[1].position));
-                let pts: Vec<_> = tr
-                    .points
-                    .iter()
-                    .filter(|p| p.t >= k[0].t - 1e-9 && p.t <= k[1].t + 1e-9)
-                    .collect();
-                assert!(pts.len() >= 2, "{}: {} has points", tr.label, k[1].label);
-                let mut worst: f64 = 0.0;
-                for w in pts.windows(2) {
-                    for u in [0.0, 0.5, 1.0] {
-                        let q: [f64; 6] =
-                            std::array::from_fn(|j| w[0].positions[j] + u * (w[1].positions[j] - w[0].positions[j]));
-                        worst = worst.max(line_distance(
-                            &m.tcp_position(tr.arm, &q, &inst.robot.tcp_offset),
-                            &a,
-                            &b,
-                        ));
-                    }
-                }
+                let worst = off_line(inst, tr, &k[0], &k[1], &[0.0, 0.5, 1.0]);
                 assert!(
                     worst < 1e-4,
                     "{}: {}: {} leaves its line by {worst:e} m",
