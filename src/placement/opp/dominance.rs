@@ -25,6 +25,7 @@ pub(super) fn dominated(b: &[(i64, i64)], a: &[(i64, i64)]) -> bool {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::{random_items_of, Lcg};
     use super::super::{Item, Outcome, Pos, Search};
     use super::dominated;
     use proptest::prelude::*;
@@ -50,85 +51,73 @@ mod tests {
         }
     }
 
+    /// Decide `items` in `w × d` with and without the dominance cut: the same answer and, since
+    /// only subtrees without a complete x-assignment are cut, the same complete x-assignments
+    /// handed to the y-phase, in the same order. Returns the answer, those y-phase leaves and the
+    /// cuts.
+    fn decide_both(items: &[Item], w: f64, d: f64, what: &str) -> (Outcome, u64, u64) {
+        let never = || false;
+        let mut with = Search::new(items, w, d, &never);
+        let r1 = with.run();
+        let mut without = Search::new(items, w, d, &never);
+        without.dominance = false;
+        let r2 = without.run();
+        assert_eq!(
+            matches!(r1, Outcome::Packed(_)),
+            matches!(r2, Outcome::Packed(_)),
+            "{what}"
+        );
+        assert_eq!(with.yleaves, without.yleaves, "{what}");
+        assert!(!matches!(r1, Outcome::Stopped), "{what}");
+        (r1, with.yleaves, with.dominance_cuts)
+    }
+
+    /// Every packing of `items` in `w × d`, counted with or without the cut, and the cuts; `None`
+    /// when the count stops (loose boxes hold too many packings: about 100 k nodes).
+    fn count_packings(items: &[Item], w: f64, d: f64, dominance: bool) -> Option<(u64, u64)> {
+        let polls = std::cell::Cell::new(0);
+        let stop = || {
+            polls.set(polls.get() + 1);
+            polls.get() > 100
+        };
+        let mut found = 0u64;
+        let mut visit = |_: &[Pos]| {
+            found += 1;
+            false
+        };
+        let mut s = Search::new(items, w, d, &stop).enumerating(&mut visit);
+        s.dominance = dominance;
+        let done = !matches!(s.run(), Outcome::Stopped);
+        let cuts = s.dominance_cuts;
+        drop(s);
+        done.then_some((found, cuts))
+    }
+
     /// Random instances of 6 to 9 items (integer sides 1 to 5, some rotatable, some identical)
-    /// in boxes around their area, decided with and without the dominance cut: the same answer
-    /// every time, the same complete x-assignments handed to the y-phase, and the cut must have
-    /// fired (else the test shows nothing). Then the same for
-    /// the consecutive squares, whose near-perfect boxes make the memo work hard.
+    /// in boxes around their area, decided with and without the dominance cut ([`decide_both`]),
+    /// and their packings counted both ways where the count finishes: the same number. Then the
+    /// consecutive squares, whose near-perfect boxes make the memo work hard. The cut must have
+    /// fired (else the test shows nothing).
     #[test]
     fn the_dominance_cut_changes_no_answer() {
-        let mut state = 11u64;
-        let mut below = |n: u64| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 33) % n
-        };
-        let never = || false;
+        let mut rng = Lcg(11);
         let (mut cuts, mut packed, mut refuted, mut leaves) = (0, 0, 0, 0);
         let (mut packings, mut enum_cuts) = (0, 0);
         for case in 0..300 {
-            let n = 6 + below(4) as usize;
-            let mut items: Vec<Item> = Vec::new();
-            for k in 0..n {
-                let (a, b) = ((1 + below(5)) as f64, (1 + below(5)) as f64);
-                let opts = if a != b && below(3) == 0 {
-                    vec![[a, b], [b, a]]
-                } else {
-                    vec![[a, b]]
-                };
-                let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
-                items.push(Item { opts, class });
-            }
-            items.sort_by_key(|it| it.class);
+            let items = random_items_of(&mut rng, false, (6, 4), 5);
             let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
-            let w = (4 + below(6)) as f64;
-            let d = ((area / w).ceil() + below(2) as f64).max(5.0);
-            let mut with = Search::new(&items, w, d, &never);
-            let r1 = with.run();
-            cuts += with.dominance_cuts;
-            let mut without = Search::new(&items, w, d, &never);
-            without.dominance = false;
-            let r2 = without.run();
-            assert_eq!(
-                matches!(r1, Outcome::Packed(_)),
-                matches!(r2, Outcome::Packed(_)),
-                "case {case}: {items:?} in {w} × {d}"
-            );
-            // Only subtrees without a complete x-assignment are cut, so the y-phase sees the same
-            // ones, in the same order.
-            assert_eq!(with.yleaves, without.yleaves, "case {case}: {items:?} in {w} × {d}");
-            leaves += with.yleaves;
-            assert!(!matches!(r1, Outcome::Stopped));
-            // Every packing, counted with and without the cut: the count is the same. Loose
-            // boxes hold too many to count; those stop (about 100 k nodes) and are skipped.
-            let count = |dominance: bool| {
-                let polls = std::cell::Cell::new(0);
-                let stop = || {
-                    polls.set(polls.get() + 1);
-                    polls.get() > 100
-                };
-                let mut found = 0u64;
-                let mut visit = |_: &[Pos]| {
-                    found += 1;
-                    false
-                };
-                let mut s = Search::new(&items, w, d, &stop).enumerating(&mut visit);
-                s.dominance = dominance;
-                let done = !matches!(s.run(), Outcome::Stopped);
-                let cuts = s.dominance_cuts;
-                drop(s);
-                done.then_some((found, cuts))
-            };
-            if let (Some((all, c)), Some((all_without, _))) = (count(true), count(false)) {
-                assert_eq!(
-                    all, all_without,
-                    "case {case}: {items:?} in {w} × {d}: packings enumerated"
-                );
+            let w = (4 + rng.below(6)) as f64;
+            let d = ((area / w).ceil() + rng.below(2) as f64).max(5.0);
+            let what = format!("case {case}: {items:?} in {w} × {d}");
+            let (r, l, c) = decide_both(&items, w, d, &what);
+            (leaves, cuts) = (leaves + l, cuts + c);
+            packed += matches!(r, Outcome::Packed(_)) as u32;
+            refuted += matches!(r, Outcome::Infeasible) as u32;
+            let both = (count_packings(&items, w, d, true), count_packings(&items, w, d, false));
+            if let (Some((all, c)), Some((all_without, _))) = both {
+                assert_eq!(all, all_without, "{what}: packings enumerated");
                 (packings, enum_cuts) = (packings + all, enum_cuts + c);
             }
-            packed += matches!(r1, Outcome::Packed(_)) as u32;
-            refuted += matches!(r1, Outcome::Infeasible) as u32;
         }
         // Consecutive squares 1…N in every box from their area up to the optimum (A038666).
         for (n, best) in [(9u32, 300u32), (10, 405), (11, 513), (12, 657)] {
@@ -141,24 +130,11 @@ mod tests {
                 .collect();
             let sum: u32 = (1..=n).map(|s| s * s).sum();
             for w in n..=best / n {
-                for d in n..=w {
-                    if w * d < sum || w * d > best {
-                        continue;
-                    }
-                    let mut with = Search::new(&items, w as f64, d as f64, &never);
-                    let r1 = with.run();
-                    cuts += with.dominance_cuts;
-                    let mut without = Search::new(&items, w as f64, d as f64, &never);
-                    without.dominance = false;
-                    let r2 = without.run();
-                    assert_eq!(
-                        matches!(r1, Outcome::Packed(_)),
-                        matches!(r2, Outcome::Packed(_)),
-                        "squares 1…{n} in {w} × {d}"
-                    );
-                    assert_eq!(with.yleaves, without.yleaves, "squares 1…{n} in {w} × {d}");
-                    packed += matches!(r1, Outcome::Packed(_)) as u32;
-                    refuted += matches!(r1, Outcome::Infeasible) as u32;
+                for d in (n..=w).filter(|&d| w * d >= sum && w * d <= best) {
+                    let (r, _, c) = decide_both(&items, w as f64, d as f64, &format!("squares 1…{n} in {w} × {d}"));
+                    cuts += c;
+                    packed += matches!(r, Outcome::Packed(_)) as u32;
+                    refuted += matches!(r, Outcome::Infeasible) as u32;
                 }
             }
         }

@@ -50,9 +50,9 @@ fn squares_one_to_eight_fit_fourteen_by_fifteen_not_smaller() {
 }
 
 /// A small linear congruential generator (the tests need no statistics, only variety).
-struct Lcg(u64);
+pub(super) struct Lcg(pub(super) u64);
 impl Lcg {
-    fn below(&mut self, n: u64) -> u64 {
+    pub(super) fn below(&mut self, n: u64) -> u64 {
         self.0 = self
             .0
             .wrapping_mul(6364136223846793005)
@@ -64,13 +64,18 @@ impl Lcg {
 /// 2 to 6 random items of integer sides 1 to 4, some rotatable, a third of them unit squares
 /// when `units`; identical items share a class and come in index order.
 fn random_items(rng: &mut Lcg, units: bool) -> Vec<Item> {
-    let n = 2 + rng.below(5) as usize;
+    random_items_of(rng, units, (2, 5), 4)
+}
+
+/// [`random_items`] with `counts.0` to `counts.0 + counts.1 − 1` items of sides 1 to `side`.
+pub(super) fn random_items_of(rng: &mut Lcg, units: bool, counts: (usize, u64), side: u64) -> Vec<Item> {
+    let n = counts.0 + rng.below(counts.1) as usize;
     let mut items: Vec<Item> = Vec::new();
     for k in 0..n {
         let (a, b) = if units && rng.below(3) == 0 {
             (1.0, 1.0)
         } else {
-            ((1 + rng.below(4)) as f64, (1 + rng.below(4)) as f64)
+            ((1 + rng.below(side)) as f64, (1 + rng.below(side)) as f64)
         };
         let opts = if a != b && rng.below(2) == 0 {
             vec![[a, b], [b, a]]
