@@ -9,7 +9,7 @@
 //! # generated instances, `--count` seeds per size
 //! cargo bench --bench placement_random -- [--sizes 4,6,8,10,12,16] [--count 10] [--seeds 0,3] [--time-limit 60]
 //! # the committed sets, the first `--count` files of each (sorted by name)
-//! cargo bench --bench placement_random -- --sets instances/random/n12,instances/random/n16 --count 10
+//! cargo bench --bench placement_random -- --sets instances/random/n12,instances/random/n16 --count 10 [--threads 1]
 //! # contact-stage budget rules side by side on the same files: rest | area | seconds
 //! cargo bench --bench placement_random -- --sets instances/random/n16 --budgets rest,area
 //! ```
@@ -73,6 +73,7 @@ fn main() {
         .collect();
     let count: u64 = arg(&args, "--count", 10);
     let limit: f64 = arg(&args, "--time-limit", 60.0);
+    let threads: usize = arg(&args, "--threads", 1);
     let budgets: Vec<String> = arg(&args, "--budgets", "rest".to_string())
         .split(',')
         .map(str::to_string)
@@ -100,6 +101,7 @@ fn main() {
                     contact_stage: true,
                     seed: *seed,
                     contact_budget: budget(b),
+                    threads,
                     ..Default::default()
                 };
                 let (r, rep) = milp::solve_report(inst, &blr, &settings, &TimeLimit::new(limit))

@@ -6,12 +6,14 @@
 //! noisy). Run:
 //!
 //! ```sh
-//! cargo bench --bench placement_squares -- [--from 1] [--to 22] [--time-limit 60] [--repeat 3] [--tight]
+//! cargo bench --bench placement_squares -- [--from 1] [--to 22] [--time-limit 60] [--repeat 3] [--tight] [--threads 1]
 //! # the area stage's two masters side by side (combinatorial x-phase, HiGHS MILP)
 //! cargo bench --bench placement_squares -- --to 12 --masters search,highs
 //! # the packing search alone on each enclosing box W × D (W ≥ D) of area below the optimum
 //! # and at it, that the bounds do not refute (integer sizes): outcome, nodes, seconds
 //! cargo bench --bench placement_squares -- --boxes 18 --time-limit 300
+//! # one of those boxes only
+//! cargo bench --bench placement_squares -- --boxes 21 --only 71x47
 //! # the contact stage's enumeration alone on each box of the optimal area that packs (loose
 //! # container): nodes, seconds, finished or not, the best contact length found (units)
 //! cargo bench --bench placement_squares -- --contact 17 --time-limit 60
@@ -39,9 +41,11 @@ fn main() {
     let limit: f64 = arg(&args, "--time-limit", 60.0);
     let repeat: usize = arg(&args, "--repeat", 3);
     let tight = args.iter().any(|a| a == "--tight");
+    let threads: usize = arg(&args, "--threads", 1);
     let boxes: u32 = arg(&args, "--boxes", 0);
     if boxes > 0 {
-        return decide_boxes(boxes, limit);
+        let only: String = arg(&args, "--only", String::new());
+        return decide_boxes(boxes, limit, &only, threads);
     }
     let contact: u32 = arg(&args, "--contact", 0);
     if contact > 0 {
@@ -63,7 +67,7 @@ fn main() {
         let mut text = consecutive_squares_toml(n, None);
         if tight {
             let inst = Instance::parse(&text, false, "<bench>", None).expect("valid");
-            let r = run(&inst, limit, AreaMaster::Search).0;
+            let r = run(&inst, limit, AreaMaster::Search, threads).0;
             let (w, d) = r.placement.extent();
             text = consecutive_squares_toml(n, Some(((w / 0.002).round() as u32, (d / 0.002).round() as u32)));
         }
@@ -75,7 +79,7 @@ fn main() {
             let mut last = None;
             for _ in 0..repeat {
                 let c0 = cpu_s();
-                let (r, rep) = run(&inst, limit, master);
+                let (r, rep) = run(&inst, limit, master, threads);
                 cpu.push(cpu_s() - c0);
                 assert!(r.placement.violations(&inst).is_empty(), "N={n}: invalid placement");
                 area_s.push(rep.area_stage_s);
@@ -104,13 +108,14 @@ fn main() {
     }
 }
 
-fn run(inst: &Instance, limit: f64, area_master: AreaMaster) -> (PlacementResult, milp::MilpReport) {
+fn run(inst: &Instance, limit: f64, area_master: AreaMaster, threads: usize) -> (PlacementResult, milp::MilpReport) {
     let none = PlacementResult::empty("none", 0.0);
     let s = milp::MilpSettings {
         time_limit: limit,
         contact_stage: true,
         seed: 1,
         area_master,
+        threads,
         ..Default::default()
     };
     milp::solve_report(inst, &none, &s, &TimeLimit::new(limit)).expect("squares always fit the loose container")
@@ -129,8 +134,8 @@ fn square_items(n: u32) -> Vec<pushpack::placement::opp::Item> {
 
 /// `--boxes N`: every box `W × D`, `W ≥ D ≥ N`, with `sum ≤ W·D ≤ A038666(N)`, decided by the
 /// packing search alone (the area stage decides these, in area order, until one packs).
-fn decide_boxes(n: u32, limit: f64) {
-    use pushpack::placement::opp::{decide, refuted_by_bounds};
+fn decide_boxes(n: u32, limit: f64, only: &str, threads: usize) {
+    use pushpack::placement::opp::{decide_metered, refuted_by_bounds};
     use std::time::Instant;
     let items = square_items(n);
     let sum: u32 = (1..=n).map(|s| s * s).sum();
@@ -144,6 +149,9 @@ fn decide_boxes(n: u32, limit: f64) {
         }
     }
     list.sort_by_key(|&(w, d)| (w * d, w));
+    if !only.is_empty() {
+        list.retain(|&(w, d)| format!("{w}x{d}") == only);
+    }
     println!("| W | D | area | outcome | nodes | s | CPU s |");
     println!("|---|---|---|---|---|---|---|");
     for (w, d) in list {
@@ -154,7 +162,7 @@ fn decide_boxes(n: u32, limit: f64) {
         let t0 = Instant::now();
         let c0 = cpu_s();
         let stop = || t0.elapsed().as_secs_f64() > limit;
-        let (r, nodes) = decide(&items, wf, df, &stop);
+        let (r, nodes) = decide_metered(&items, wf, df, &stop, None, threads);
         let kind = match r {
             pushpack::placement::opp::Outcome::Packed(_) => "packed",
             pushpack::placement::opp::Outcome::Infeasible => "infeasible",

@@ -134,8 +134,9 @@ fn stopped_search_reports_incumbent_and_bound() {
 }
 
 /// `place --solver milp --area-master highs --contact-budget area` runs the HiGHS master with the
-/// old contact budget and reaches the same proven optimum as the default; the exact solver's
-/// options without `--solver milp`, or a bad budget, are bad input (exit 2, the option named).
+/// old contact budget and reaches the same proven optimum as the default, and `--threads 2` the
+/// same placement; the exact solver's options without `--solver milp`, a bad budget or no
+/// threads are bad input (exit 2, the option named).
 #[test]
 fn place_cli_takes_the_exact_solvers_master_and_contact_budget() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -174,8 +175,14 @@ fn place_cli_takes_the_exact_solvers_master_and_contact_budget() {
     }
     let area = |v: &serde_json::Value| v["objective"]["occupied_area"].as_f64().unwrap();
     assert!((area(&default) - area(&highs)).abs() < 1e-12);
+    // Two threads: the very same placement.
+    let two = json(&["place", inst, "--solver", "milp", "--threads", "2", "--json"]);
+    assert_eq!(two["placement"], default["placement"], "{two}");
+    assert_eq!(two["status"], "optimal", "{two}");
     for (args, flag) in [
         (vec!["place", inst, "--area-master", "highs"], "--area-master"),
+        (vec!["place", inst, "--threads", "2"], "--threads"),
+        (vec!["place", inst, "--solver", "milp", "--threads", "0"], "--threads"),
         (
             vec!["place", inst, "--solver", "milp", "--contact-budget", "soon"],
             "--contact-budget",

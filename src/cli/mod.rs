@@ -74,6 +74,10 @@ enum Cmd {
         /// value: one it rejects, or a run it fails, is a solver error (exit 3).
         #[arg(long = "highs-option", value_name = "NAME=VALUE")]
         highs_option: Vec<String>,
+        /// Exact solver only: threads deciding each enclosing box of the area stage (the same
+        /// answer on any number; default 1).
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Plan everything, verify the plan, write plan.json and pictures.
     Plan {
@@ -409,6 +413,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
             area_master,
             contact_budget,
             highs_option,
+            threads,
         } => cmd_place(
             instance,
             solver,
@@ -419,6 +424,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
                 area_master,
                 contact_budget,
                 highs_options: highs_option,
+                threads,
             },
         ),
         Cmd::Plan {
@@ -613,6 +619,7 @@ struct ExactArgs {
     area_master: Option<String>,
     contact_budget: Option<String>,
     highs_options: Vec<String>,
+    threads: Option<usize>,
 }
 
 impl ExactArgs {
@@ -644,6 +651,17 @@ impl ExactArgs {
             };
             highs_options.push((name.trim().to_string(), value.trim().to_string()));
         }
+        let threads = match self.threads {
+            None => 1,
+            Some(n) if (1..=256).contains(&n) => n,
+            Some(n) => {
+                return Err(Error::input(
+                    "<command line>",
+                    "--threads",
+                    format!("must be between 1 and 256, got {n}"),
+                ))
+            }
+        };
         let settings = MilpSettings {
             time_limit,
             contact_stage: true,
@@ -654,6 +672,7 @@ impl ExactArgs {
             },
             contact_budget,
             highs_options,
+            threads,
             ..MilpSettings::default()
         };
         settings.check_highs_options("<command line>", "--highs-option")?;
@@ -661,7 +680,10 @@ impl ExactArgs {
     }
 
     fn given(&self) -> bool {
-        self.area_master.is_some() || self.contact_budget.is_some() || !self.highs_options.is_empty()
+        self.area_master.is_some()
+            || self.contact_budget.is_some()
+            || !self.highs_options.is_empty()
+            || self.threads.is_some()
     }
 }
 
@@ -683,7 +705,7 @@ fn cmd_place(
     } else if exact.given() {
         return Err(Error::input(
             "<command line>",
-            "--area-master/--contact-budget/--highs-option",
+            "--area-master/--contact-budget/--highs-option/--threads",
             "only the exact solver has them: add --solver milp",
         ));
     } else {

@@ -111,6 +111,9 @@ pub struct MilpSettings {
     /// or whose value changes what HiGHS's "optimal" and "infeasible" prove are refused by
     /// [`MilpSettings::check_highs_options`] (see [`FORBIDDEN_HIGHS_OPTIONS`]). Default: none.
     pub highs_options: Vec<(String, String)>,
+    /// Threads deciding one enclosing box of the area stage (default 1). The answer is the same
+    /// on any number (`opp::decide_metered`); more threads only shorten the wall time.
+    pub threads: usize,
 }
 
 /// HiGHS options [`MilpSettings::highs_options`] may not set: those pushpack sets for its
@@ -165,6 +168,7 @@ impl Default for MilpSettings {
             area_master: AreaMaster::Search,
             grid_max_nnz: GRID_MAX_NNZ,
             highs_options: Vec::new(),
+            threads: 1,
         }
     }
 }

@@ -116,7 +116,7 @@ pub fn solve_listen(
     let warm_p = (!warm.placement.targets.is_empty()).then_some(&warm.placement);
     let search_master = |items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool| {
         let base = progress.nodes.get();
-        let (r, n) = crate::placement::opp::decide_metered(items, w, d, stop, Some(&progress.nodes));
+        let (r, n) = crate::placement::opp::decide_metered(items, w, d, stop, Some(&progress.nodes), settings.threads);
         progress.reach_nodes(base + n);
         Ok((r, n))
     };

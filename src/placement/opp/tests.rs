@@ -117,6 +117,71 @@ fn setting_unit_items_aside_keeps_every_answer() {
     );
 }
 
+/// The memo and the threads only change how fast an answer comes, never which: decided on two
+/// threads, and on one with memos of 4 records that start afresh again and again, random boxes
+/// and the consecutive squares 1…N (9 ≤ N ≤ 11) in every box up to their optimum give the very
+/// packing (or refutation) of the plain search, and the small memo hands the same complete
+/// x-assignments to the y-phase. A stop on two threads is `Stopped`, never a refutation.
+/// (The unit items are set aside in `decide_metered` and not in `Search::run`, so the two are
+/// compared only with each other.)
+#[test]
+fn threads_and_a_full_memo_change_no_answer() {
+    let never = || false;
+    let mut rng = Lcg(23);
+    let mut cases: Vec<(Vec<Item>, f64, f64)> = Vec::new();
+    for _ in 0..200 {
+        let items = random_items_of(&mut rng, true, (5, 5), 5);
+        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+        let w = (3 + rng.below(6)) as f64;
+        let d = ((area / w).ceil() + rng.below(3) as f64).max(3.0);
+        cases.push((items, w, d));
+    }
+    for (n, best) in [(9usize, 300usize), (10, 405), (11, 513)] {
+        let sum: usize = (1..=n).map(|s| s * s).sum();
+        for w in n..=best / n {
+            for d in (n..=w).filter(|&d| w * d >= sum && w * d <= best) {
+                cases.push((squares(n), w as f64, d as f64));
+            }
+        }
+    }
+    let (mut packed, mut refuted, mut restarts) = (0, 0, 0);
+    // Nodes and index of the refutation that took the most nodes.
+    let mut hardest = (0u64, 0usize);
+    for (case, (items, w, d)) in cases.iter().enumerate() {
+        let what = format!("case {case}: {items:?} in {w} × {d}");
+        let mut plain = Search::new(items, *w, *d, &never);
+        let r = plain.run();
+        let mut small = Search::new(items, *w, *d, &never);
+        small.memo_cap = 4;
+        assert_eq!(small.run(), r, "{what}: small memo");
+        assert_eq!(small.yleaves, plain.yleaves, "{what}: small memo, y-phase leaves");
+        restarts += (small.nodes > plain.nodes) as u32;
+        let one = decide_metered(items, *w, *d, &never, None, 1).0;
+        let two = decide_metered(items, *w, *d, &never, None, 2).0;
+        assert_eq!(two, one, "{what}: two threads");
+        match &r {
+            Outcome::Packed(p) => {
+                assert!(valid(items, p, *w, *d), "{what}");
+                packed += 1;
+            }
+            Outcome::Infeasible => {
+                refuted += 1;
+                hardest = hardest.max((plain.nodes, case));
+            }
+            Outcome::Stopped => panic!("{what}: stopped without a stop"),
+        }
+    }
+    assert!(
+        packed > 40 && refuted > 40 && restarts > 10,
+        "{packed} {refuted} {restarts}"
+    );
+    // The hardest refutation among them, stopped at the first poll on two threads.
+    let (items, w, d) = &cases[hardest.1];
+    assert!(hardest.0 > 3_000, "{hardest:?}");
+    let always = || true;
+    assert_eq!(decide_metered(items, *w, *d, &always, None, 2).0, Outcome::Stopped);
+}
+
 /// Contact length of a packing in `w × d` placed at the container's corner, from the
 /// definition: shared edge lengths plus edges on x = 0 and y = 0, and on x = `w` and y = `d`
 /// where `far` says the box reaches the container's walls there; `None` when some item
