@@ -49,7 +49,7 @@ fn main() {
     }
     let contact: u32 = arg(&args, "--contact", 0);
     if contact > 0 {
-        return contact_boxes(contact, limit);
+        return contact_boxes(contact, limit, threads);
     }
     let masters: Vec<AreaMaster> = arg(&args, "--masters", "search".to_string())
         .split(',')
@@ -181,7 +181,7 @@ fn decide_boxes(n: u32, limit: f64, only: &str, threads: usize) {
 /// `--contact N`: [`pushpack::placement::area::max_contact`] alone on every box `W × D` of the
 /// optimal area that packs (both orientations: the pipeline skips a transpose only when the walls
 /// allow), starting from no contact to beat.
-fn contact_boxes(n: u32, limit: f64) {
+fn contact_boxes(n: u32, limit: f64, threads: usize) {
     use pushpack::placement::area::max_contact;
     use pushpack::placement::opp::{decide, Outcome};
     use std::time::Instant;
@@ -204,7 +204,7 @@ fn contact_boxes(n: u32, limit: f64) {
         let c0 = cpu_s();
         let stop = || t0.elapsed().as_secs_f64() > limit;
         let e = (w as f64 * 0.002, d as f64 * 0.002);
-        let (p, done, nodes) = max_contact(&inst, &fps, e, 0.0, &stop, None);
+        let (p, done, nodes) = max_contact(&inst, &fps, e, 0.0, &stop, None, threads);
         let c = p.map(|p| p.contact_length(&inst) / 0.002).unwrap_or(0.0);
         println!(
             "| {w} | {d} | {} | {c:.0} | {nodes} | {:.3} | {:.3} |",

@@ -10,7 +10,7 @@
 //! object's footprints are closed under swapping x and y and the container allows, its
 //! transpose).
 
-use super::opp::{self, Item, Outcome, Search};
+use super::opp::{self, Item, Outcome};
 use super::{Placement, Target};
 use crate::geometry::{Orientation, Rect, EPS};
 use crate::instance::Instance;
@@ -465,10 +465,11 @@ pub fn solve(
 }
 
 /// Second stage by enumeration: the most contact length among the BL-stable packings inside
-/// `w × d` (the search meets every one of them, see [`opp`]), if more than `to_beat`. Returns
-/// the best placement found (`None`: none beats `to_beat`), whether the enumeration finished
-/// (then nothing in the box beats the result), and the nodes visited. `meter`: a node count kept
-/// up to date for progress events.
+/// `w × d` (the search meets every one of them, see [`opp`]), if more than `to_beat`, on
+/// `threads` threads (the same answer on any number: [`opp::best_packing`]). Returns the best
+/// placement found (`None`: none beats `to_beat`), whether the enumeration finished (then
+/// nothing in the box beats the result), and the nodes visited. `meter`: a node count kept up
+/// to date for progress events.
 pub fn max_contact(
     inst: &Instance,
     fps: &[Footprints],
@@ -476,43 +477,37 @@ pub fn max_contact(
     to_beat: f64,
     stop: &dyn Fn() -> bool,
     meter: Option<&std::cell::Cell<u64>>,
+    threads: usize,
 ) -> (Option<Placement>, bool, u64) {
     let (items, order) = items(fps);
     let flip = w < d;
-    let mut best: Option<(f64, Placement)> = None;
-    // Only packings with more contact than `to_beat` matter: the search cuts the others by an
-    // upper bound (every side in contact but the deficits known), and each find raises it.
-    let bound = std::cell::Cell::new(to_beat);
     let (cw, cd) = (inst.container.width, inst.container.depth);
     let far = [w >= cw - EPS, d >= cd - EPS];
     let far = if flip { [far[1], far[0]] } else { far };
-    let mut visit = |pos: &[opp::Pos]| {
-        let unflip = |p: &opp::Pos| {
-            if flip {
-                opp::Pos {
-                    opt: p.opt,
-                    x: p.y,
-                    y: p.x,
-                }
-            } else {
-                *p
+    let unflip = |p: &opp::Pos| {
+        if flip {
+            opp::Pos {
+                opt: p.opt,
+                x: p.y,
+                y: p.x,
             }
-        };
-        let targets = targets_of(fps, &order, pos.iter().map(unflip));
-        if super::is_bl_stable(&targets) {
-            let p = Placement { targets };
-            let c = p.contact_length(inst);
-            if c > bound.get() + 1e-9 {
-                bound.set(c);
-                best = Some((c, p));
-            }
+        } else {
+            *p
         }
-        false
     };
-    let (complete, nodes) = if flip {
-        Search::enumerate(&swapped(&items), d, w, stop, &mut visit, Some(&bound), far, meter)
+    // Only BL-stable packings count; the search cuts the others by an upper bound on contact
+    // (every side in contact but the deficits known), raised by each better find.
+    let score = |pos: &[opp::Pos]| {
+        let targets = targets_of(fps, &order, pos.iter().map(unflip));
+        super::is_bl_stable(&targets).then(|| Placement { targets }.contact_length(inst))
+    };
+    let (best, complete, nodes) = if flip {
+        opp::best_packing(&swapped(&items), d, w, stop, &score, to_beat, far, meter, threads)
     } else {
-        Search::enumerate(&items, w, d, stop, &mut visit, Some(&bound), far, meter)
+        opp::best_packing(&items, w, d, stop, &score, to_beat, far, meter, threads)
     };
-    (best.map(|(_, p)| p), complete, nodes)
+    let best = best.map(|(_, pos)| Placement {
+        targets: targets_of(fps, &order, pos.iter().map(unflip)),
+    });
+    (best, complete, nodes)
 }

@@ -242,7 +242,8 @@ pub fn solve_listen(
             };
             let t_enum = Instant::now();
             let meter = Some(&progress.nodes);
-            let (enum_best, complete, n_enum) = area::max_contact(inst, &fps, e, best_contact, &halt_enum, meter);
+            let (enum_best, complete, n_enum) =
+                area::max_contact(inst, &fps, e, best_contact, &halt_enum, meter, settings.threads);
             report.contact_enumeration_s += t_enum.elapsed().as_secs_f64();
             report.contact_proofs_by_enumeration += complete as u64;
             nodes += n_enum;

@@ -217,97 +217,6 @@ pub fn decide_metered(
     (r, nodes)
 }
 
-/// [`Search::run`] on `threads` threads. The root's branches (which object starts at x = 0)
-/// are dealt out in order to threads that each keep a search, and its memo, across the
-/// branches they take. The answer is the one of a single thread: the first branch in order
-/// that packs gives the packing (branches after it are called off, those before it finish),
-/// and the box is infeasible only when every branch is. Only the calling thread polls `stop`
-/// (it need not be `Sync`), also while it waits for the others.
-fn search(
-    items: &[Item],
-    w: f64,
-    d: f64,
-    stop: &dyn Fn() -> bool,
-    meter: Option<&std::cell::Cell<u64>>,
-    threads: usize,
-) -> (Outcome, u64) {
-    use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::Relaxed};
-    if threads <= 1 || items.len() < 2 {
-        let mut s = Search::new(items, w, d, stop).metered(meter);
-        let r = s.run();
-        return (r, s.nodes);
-    }
-    let never = || false;
-    let mut root = Search::new(items, w, d, &never);
-    let Some(branches) = root.root_branches() else {
-        return (Outcome::Infeasible, root.nodes);
-    };
-    let next = AtomicUsize::new(0);
-    // The least branch that packed: branches after it are called off.
-    let packed_at = AtomicUsize::new(usize::MAX);
-    let halted = AtomicBool::new(false);
-    // Stop polls of all threads, each 1024 nodes apart (the meter's estimate while running).
-    let polls = AtomicU64::new(0);
-    let results: std::sync::Mutex<Vec<Option<Outcome>>> = std::sync::Mutex::new(vec![None; branches.len()]);
-    let worker = |poll: &dyn Fn() -> bool| -> u64 {
-        let current = std::cell::Cell::new(usize::MAX);
-        let own_stop = || {
-            polls.fetch_add(1, Relaxed);
-            poll() || halted.load(Relaxed) || packed_at.load(Relaxed) < current.get()
-        };
-        let mut s = Search::new(items, w, d, &own_stop);
-        loop {
-            let c = next.fetch_add(1, Relaxed);
-            if c >= branches.len() || packed_at.load(Relaxed) < c || halted.load(Relaxed) {
-                break;
-            }
-            current.set(c);
-            let r = s.run_branch(branches[c]);
-            let packed = matches!(r, Outcome::Packed(_));
-            if packed {
-                packed_at.fetch_min(c, Relaxed);
-            }
-            results.lock().expect("no thread panics holding it")[c] = Some(r);
-            if packed {
-                break;
-            }
-        }
-        s.nodes
-    };
-    let base = meter.map_or(0, |m| m.get());
-    let caller_poll = || {
-        if let Some(m) = meter {
-            m.set(base + polls.load(Relaxed) * 1024);
-        }
-        if stop() {
-            halted.store(true, Relaxed);
-        }
-        false
-    };
-    let nodes = std::thread::scope(|scope| {
-        let others: Vec<_> = (1..threads).map(|_| scope.spawn(|| worker(&never))).collect();
-        let mut nodes = worker(&caller_poll);
-        while others.iter().any(|h| !h.is_finished()) {
-            caller_poll();
-            std::thread::sleep(std::time::Duration::from_millis(2));
-        }
-        for h in others {
-            nodes += h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-        }
-        nodes
-    });
-    let results = results.into_inner().expect("no thread panicked holding it");
-    let nodes = nodes + root.nodes;
-    for r in results {
-        match r {
-            Some(Outcome::Infeasible) => {}
-            Some(Outcome::Packed(p)) => return (Outcome::Packed(p), nodes),
-            Some(Outcome::Stopped) | None => return (Outcome::Stopped, nodes),
-        }
-    }
-    (Outcome::Infeasible, nodes)
-}
-
 /// The items [`decide`] may set aside (empty: none).
 fn unit_items(items: &[Item], w: f64, d: f64) -> Vec<usize> {
     let t = tol(w, d);
@@ -371,7 +280,10 @@ fn free_cell(rects: &[[f64; 4]], g: f64, w: f64, d: f64) -> Option<(f64, f64)> {
 mod dominance;
 mod search;
 mod subset;
+mod threads;
 pub use search::{Search, Visitor};
+use threads::search;
+pub use threads::{best_packing, Scored};
 
 #[cfg(test)]
 mod tests;

@@ -145,13 +145,27 @@ impl<'a> Search<'a> {
         far: [bool; 2],
         meter: Option<&'a Cell<u64>>,
     ) -> (bool, u64) {
-        let mut s = Search::new(items, w, d, stop).metered(meter);
+        let mut s = Search::enumerator(items, w, d, stop, visit, bound, far).metered(meter);
+        let complete = matches!(s.run(), Outcome::Infeasible);
+        (complete, s.nodes)
+    }
+
+    /// The search [`Self::enumerate`] runs, not yet run.
+    pub(super) fn enumerator(
+        items: &'a [Item],
+        w: f64,
+        d: f64,
+        stop: &'a dyn Fn() -> bool,
+        visit: &'a mut Visitor<'a>,
+        bound: Option<&'a Cell<f64>>,
+        far: [bool; 2],
+    ) -> Self {
+        let mut s = Search::new(items, w, d, stop);
         s.anchor = None;
         s.visit = Some(visit);
         s.cbound = bound;
         s.far = far;
-        let complete = matches!(s.run(), Outcome::Infeasible);
-        (complete, s.nodes)
+        s
     }
 
     /// Enumeration of every packing into `visit` without a contact bound (tests only).
@@ -220,7 +234,8 @@ impl<'a> Search<'a> {
             dominance: true,
             dominance_cuts: 0,
             yleaves: 0,
-            dead_enabled: true,
+            // The state key is a 64-bit set; so large an instance is out of reach anyway.
+            dead_enabled: n <= 64,
             cbound: None,
             far: [false; 2],
             ldef: 0.0,
@@ -236,10 +251,6 @@ impl<'a> Search<'a> {
 
     /// Decide the box.
     pub fn run(&mut self) -> Outcome {
-        if self.items.len() > 64 {
-            // The state key is a 64-bit set; so large an instance is out of reach anyway.
-            self.dead_enabled = false;
-        }
         if refuted_by_bounds(self.items, self.w, self.d) {
             return Outcome::Infeasible;
         }
@@ -257,9 +268,6 @@ impl<'a> Search<'a> {
     /// The root's branches, in the order [`Self::run`] tries them: each object (the first of
     /// its class) in each fitting footprint at x = 0. `None`: the root is refuted already.
     pub(super) fn root_branches(&mut self) -> Option<Vec<(usize, usize)>> {
-        if self.items.len() > 64 {
-            self.dead_enabled = false;
-        }
         self.nodes += 1;
         if refuted_by_bounds(self.items, self.w, self.d) || self.capacity_refutes(0.0) {
             return None;

@@ -283,6 +283,45 @@ fn contact_cuts_keep_the_best_packing() {
     assert!(compared > 300, "{compared}");
 }
 
+/// The best contact on two threads is the one thread's: the same score and the very same
+/// packing, on random instances of 4 to 7 items near their area (some boxes reaching the far
+/// walls) and on the consecutive squares 1…8 and 1…9 in their optimal boxes. A stop on two
+/// threads leaves the enumeration unfinished.
+#[test]
+fn threads_find_the_same_best_packing() {
+    let mut rng = Lcg(31);
+    let never = || false;
+    let mut cases: Vec<(Vec<Item>, f64, f64, [bool; 2])> = Vec::new();
+    for _ in 0..150 {
+        let items = random_items_of(&mut rng, true, (4, 4), 4);
+        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+        let w = (3 + rng.below(5)) as f64;
+        let d = (area / w).ceil() + rng.below(2) as f64;
+        cases.push((items, w, d, [rng.below(3) == 0, rng.below(3) == 0]));
+    }
+    for (n, w, d) in [(8usize, 15.0, 14.0), (9, 20.0, 15.0)] {
+        cases.push((squares(n), w, d, [false; 2]));
+    }
+    let mut found = 0;
+    for (case, (items, w, d, far)) in cases.iter().enumerate() {
+        let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
+        let one = best_packing(items, *w, *d, &never, &score, 0.0, *far, None, 1);
+        let two = best_packing(items, *w, *d, &never, &score, 0.0, *far, None, 2);
+        let what = format!("case {case}: {items:?} in {w} × {d}, far {far:?}");
+        assert!(one.1 && two.1, "{what}: finished");
+        assert_eq!(two.0, one.0, "{what}");
+        if let Some((_, p)) = &one.0 {
+            assert!(valid(items, p, *w, *d), "{what}");
+            found += 1;
+        }
+    }
+    assert!(found > 80, "{found}");
+    let always = || true;
+    let (items, w, d, far) = cases.last().expect("the squares");
+    let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
+    assert!(!best_packing(items, *w, *d, &always, &score, 0.0, *far, None, 2).1);
+}
+
 #[test]
 fn bounds_refute_only_what_cannot_fit() {
     let it = squares(3);
