@@ -49,12 +49,32 @@ impl Pool {
             false
         };
         let never = || false;
+        // Each other thread says when it is done, so that waiting ends at once on small boxes.
+        let (done, finished) = std::sync::mpsc::channel::<()>();
         std::thread::scope(|scope| {
-            let others: Vec<_> = (1..threads).map(|_| scope.spawn(|| worker(&never))).collect();
+            let others: Vec<_> = (1..threads)
+                .map(|_| {
+                    let done = done.clone();
+                    scope.spawn(move || {
+                        let nodes = worker(&never);
+                        // The receiver lives until every thread is joined.
+                        let _ = done.send(());
+                        nodes
+                    })
+                })
+                .collect();
+            drop(done);
             let mut nodes = worker(&caller);
-            while others.iter().any(|h| !h.is_finished()) {
-                caller();
-                std::thread::sleep(std::time::Duration::from_millis(2));
+            let mut waiting = others.len();
+            while waiting > 0 {
+                match finished.recv_timeout(std::time::Duration::from_millis(2)) {
+                    Ok(()) => waiting -= 1,
+                    Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                        caller();
+                    }
+                    // A thread panicked: its panic is raised at the join below.
+                    Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
+                }
             }
             for h in others {
                 nodes += h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
