@@ -67,6 +67,10 @@ pub struct Search<'a> {
     max_sides: Vec<f64>,
     /// The items by least depth, deepest first (ties in index order).
     by_depth: Vec<usize>,
+    /// Least width of each item among its fitting footprints, and the items by it, widest
+    /// first (ties in index order).
+    min_width: Vec<f64>,
+    by_width: Vec<usize>,
     /// Scratch buffers of [`Self::capacity_refutes`].
     buf_ends: Vec<(f64, f64)>,
     buf_pieces: Vec<(f64, f64)>,
@@ -128,8 +132,9 @@ pub struct Search<'a> {
 }
 
 impl<'a> Search<'a> {
-    /// Enumerate packings in `w × d` (each at most once, every one whose objects all touch
-    /// something on their left and below among them) into `visit`. With `bound`, only packings
+    /// Enumerate packings in `w × d` (every one whose objects all touch something on their left
+    /// and below among them; once each, except that identical objects with several footprints
+    /// may come again with their footprints swapped) into `visit`. With `bound`, only packings
     /// whose contact length (objects, the walls x = 0 and y = 0, and the far walls where `far`
     /// says the box reaches them) may exceed it are guaranteed to be visited; the visitor may
     /// raise it. `meter`: a node count kept up to date ([`Search::metered`]). Returns whether
@@ -193,6 +198,12 @@ impl<'a> Search<'a> {
             .collect();
         let mut by_depth: Vec<usize> = (0..n).collect();
         by_depth.sort_by(|&a, &b| min_depth[b].total_cmp(&min_depth[a]));
+        let min_width: Vec<f64> = items
+            .iter()
+            .map(|it| fitting(it, w, d).map(|g| g[0]).fold(f64::INFINITY, f64::min))
+            .collect();
+        let mut by_width: Vec<usize> = (0..n).collect();
+        by_width.sort_by(|&a, &b| min_width[b].total_cmp(&min_width[a]));
         let max_sides: Vec<f64> = items
             .iter()
             .map(|it| fitting(it, w, d).map(|g| g[0] + g[1]).fold(0.0, f64::max))
@@ -216,6 +227,8 @@ impl<'a> Search<'a> {
             min_depth,
             max_sides,
             by_depth,
+            min_width,
+            by_width,
             buf_ends: Vec::new(),
             buf_pieces: Vec::new(),
             grid: subset::Grid::new(items, w, d),
@@ -269,7 +282,7 @@ impl<'a> Search<'a> {
     /// its class) in each fitting footprint at x = 0. `None`: the root is refuted already.
     pub(super) fn root_branches(&mut self) -> Option<Vec<(usize, usize)>> {
         self.nodes += 1;
-        if refuted_by_bounds(self.items, self.w, self.d) || self.capacity_refutes(0.0) {
+        if refuted_by_bounds(self.items, self.w, self.d) || self.capacity_refutes(0.0, 0) {
             return None;
         }
         let mut out = Vec::new();
@@ -374,7 +387,7 @@ impl<'a> Search<'a> {
     /// Free depth from `t` on, column by column: an object of depth `h` fits only in columns
     /// with at least `h` free, so the objects of least depth at least `h` (their least areas)
     /// must fit in those columns' free area, for every such `h`.
-    fn capacity_refutes(&mut self, t: f64) -> bool {
+    fn capacity_refutes(&mut self, t: f64, min_idx: usize) -> bool {
         // Buffers kept between calls: this runs at every x-node.
         let (mut ends, mut pieces) = (std::mem::take(&mut self.buf_ends), std::mem::take(&mut self.buf_pieces));
         ends.clear();
@@ -406,6 +419,7 @@ impl<'a> Search<'a> {
         if let Some(g) = &self.grid {
             g.clear(&mut bits);
         }
+        let mut last_avail = f64::INFINITY;
         for &i in self.by_depth.iter().filter(|&&i| !self.placed[i]) {
             area += self.min_area[i];
             let h = self.min_depth[i];
@@ -420,9 +434,37 @@ impl<'a> Search<'a> {
                 }
                 None => pieces.iter().filter(|p| p.1 >= h - self.t).map(|p| p.0 * p.1).sum(),
             };
+            last_avail = avail;
             if area > avail + tol {
                 refuted = true;
                 break;
+            }
+        }
+        // The column at `t` holds only the open objects and those still to start at `t`: the
+        // unplaced ones from `min_idx` on (objects at one position come in index order). Those
+        // started there fill it, for at least the least width among them (or up to the next
+        // end), so the piece at `t` loses what they leave of the most it was counted to hold.
+        // Over the candidates by width, widest first: the subsets of the widest ones fill the
+        // most they can for at least the width of the narrowest of them.
+        if !refuted && min_idx > 0 {
+            if let (Some(g), Some(&(first, f0))) = (&self.grid, pieces.first()) {
+                let all = g.most(&bits, f0 + self.t);
+                g.clear(&mut bits);
+                let mut loss = first * all;
+                for &i in self.by_width.iter() {
+                    if i < min_idx || self.placed[i] || self.min_depth[i] > f0 + self.t {
+                        continue;
+                    }
+                    g.add(&mut bits, &mut tmp, i);
+                    let fill = g.most(&bits, f0 + self.t);
+                    loss = loss.min(first.min(self.min_width[i]) * (all - fill));
+                    if loss <= 0.0 {
+                        break;
+                    }
+                }
+                if area > last_avail - loss + tol {
+                    refuted = true;
+                }
             }
         }
         self.buf_bits = bits;
@@ -473,7 +515,7 @@ impl<'a> Search<'a> {
         if placed_area + rem_area + waste > self.w * self.d + tol {
             return false;
         }
-        if self.capacity_refutes(t) {
+        if self.capacity_refutes(t, min_idx) {
             return false;
         }
         // States reached again by another order of the objects behind `t`: the x-phase ahead
