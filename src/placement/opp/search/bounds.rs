@@ -1,0 +1,114 @@
+//! The x-phase's bounds: what the columns ahead of `t` can still hold (the bar relaxation
+//! with subset sums, and the column at `t` itself), and the contact bound of a node.
+
+use super::*;
+
+impl Search<'_> {
+    /// Free depth from `t` on, column by column: an object of depth `h` fits only in columns
+    /// with at least `h` free, so the objects of least depth at least `h` (their least areas)
+    /// must fit in those columns' free area, for every such `h`.
+    pub(super) fn capacity_refutes(&mut self, t: f64, min_idx: usize) -> bool {
+        // Buffers kept between calls: this runs at every x-node.
+        let (mut ends, mut pieces) = (std::mem::take(&mut self.buf_ends), std::mem::take(&mut self.buf_pieces));
+        ends.clear();
+        pieces.clear();
+        let n = self.items.len();
+        ends.extend(
+            (0..n)
+                .filter(|&j| self.placed[j])
+                .map(|j| (self.x0[j] + self.dims(j)[0], self.dims(j)[1]))
+                .filter(|&(e, _)| e > t + self.t),
+        );
+        ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut load: f64 = ends.iter().map(|e| e.1).sum();
+        let mut x = t;
+        for &(e, h) in &ends {
+            pieces.push((e - x, self.d - load));
+            load -= h;
+            x = e;
+        }
+        pieces.push((self.w - x, self.d));
+        let tol = self.t * (self.w + self.d);
+        let mut area = 0.0;
+        let mut refuted = false;
+        // The unplaced items, deepest first (`by_depth` is that order over all items). Those
+        // covering a column stack to a subset sum of their depths: with a grid, a piece holds
+        // at most the largest such sum within its free depth.
+        let mut bits = std::mem::take(&mut self.buf_bits);
+        let mut tmp = std::mem::take(&mut self.buf_tmp);
+        if let Some(g) = &self.grid {
+            g.clear(&mut bits);
+        }
+        let mut last_avail = f64::INFINITY;
+        for &i in self.by_depth.iter().filter(|&&i| !self.placed[i]) {
+            area += self.min_area[i];
+            let h = self.min_depth[i];
+            let avail: f64 = match &self.grid {
+                Some(g) => {
+                    g.add(&mut bits, &mut tmp, i);
+                    pieces
+                        .iter()
+                        .filter(|p| p.1 >= h - self.t)
+                        .map(|p| p.0 * g.most(&bits, p.1 + self.t))
+                        .sum()
+                }
+                None => pieces.iter().filter(|p| p.1 >= h - self.t).map(|p| p.0 * p.1).sum(),
+            };
+            last_avail = avail;
+            if area > avail + tol {
+                refuted = true;
+                break;
+            }
+        }
+        // The column at `t` holds only the open objects and those still to start at `t`: the
+        // unplaced ones from `min_idx` on (objects at one position come in index order). Those
+        // started there fill it, for at least the least width among them (or up to the next
+        // end), so the piece at `t` loses what they leave of the most it was counted to hold.
+        // Over the candidates by width, widest first: the subsets of the widest ones fill the
+        // most they can for at least the width of the narrowest of them.
+        if !refuted && min_idx > 0 {
+            if let (Some(g), Some(&(first, f0))) = (&self.grid, pieces.first()) {
+                let all = g.most(&bits, f0 + self.t);
+                g.clear(&mut bits);
+                let mut loss = first * all;
+                for &i in self.by_width.iter() {
+                    if i < min_idx || self.placed[i] || self.min_depth[i] > f0 + self.t {
+                        continue;
+                    }
+                    g.add(&mut bits, &mut tmp, i);
+                    let fill = g.most(&bits, f0 + self.t);
+                    loss = loss.min(first.min(self.min_width[i]) * (all - fill));
+                    if loss <= 0.0 {
+                        break;
+                    }
+                }
+                if area > last_avail - loss + tol {
+                    refuted = true;
+                }
+            }
+        }
+        self.buf_bits = bits;
+        self.buf_tmp = tmp;
+        self.buf_ends = ends;
+        self.buf_pieces = pieces;
+        refuted
+    }
+
+    /// Contact-length upper bound in the x-phase: every side in full contact except the
+    /// deficits known so far, plus the far walls' lengths.
+    pub(super) fn contact_ub(&self) -> f64 {
+        let n = self.items.len();
+        let sides: f64 = (0..n)
+            .map(|i| {
+                if self.placed[i] {
+                    let f = self.dims(i);
+                    f[0] + f[1]
+                } else {
+                    self.max_sides[i]
+                }
+            })
+            .sum();
+        let far = if self.far[0] { self.d } else { 0.0 } + if self.far[1] { self.w } else { 0.0 };
+        sides - self.ldef + far
+    }
+}
