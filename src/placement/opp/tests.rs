@@ -205,6 +205,17 @@ fn packing_key(items: &[Item], p: &[Pos]) -> Vec<[i64; 5]> {
     k
 }
 
+/// A random instance of `counts.0` to `counts.0 + counts.1 − 1` items (integer sides 1 to 4,
+/// some rotatable, some unit squares) and an integer box at or just above its area, of width 3
+/// to `2 + widths`; `None` when the box has more than `cells` cells.
+fn tight_case(rng: &mut Lcg, counts: (usize, u64), widths: u64, cells: usize) -> Option<(Vec<Item>, usize, usize)> {
+    let items = random_items_of(rng, true, counts, 4);
+    let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+    let w = 3 + rng.below(widths) as usize;
+    let d = ((area / w as f64).ceil() as usize + rng.below(3) as usize / 2).max(1);
+    (w * d <= cells).then_some((items, w, d))
+}
+
 /// The enumeration the contact stage relies on meets every BL-stable packing: on random
 /// instances of 4 to 7 items in boxes at or just above their area, the BL-stable packings
 /// [`Search::enumerate`] visits (without a contact bound) are exactly those of
@@ -216,13 +227,9 @@ fn the_enumeration_meets_every_bl_stable_packing() {
     let mut rng = Lcg(43);
     let (mut compared, mut packings) = (0, 0);
     for case in 0..300 {
-        let items = random_items_of(&mut rng, true, (4, 4), 4);
-        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
-        let w = 3 + rng.below(5) as usize;
-        let d = ((area / w as f64).ceil() as usize + rng.below(3) as usize / 2).max(1);
-        if w * d > 36 {
+        let Some((items, w, d)) = tight_case(&mut rng, (4, 4), 5, 36) else {
             continue;
-        }
+        };
         let (wf, df) = (w as f64, d as f64);
         let stable = |p: &[Pos]| contact_if_stable(&items, p, (wf, df), [false; 2]).is_some();
         let mut want = Vec::new();
@@ -262,13 +269,9 @@ fn the_search_agrees_with_a_cell_by_cell_search() {
     let mut rng = Lcg(41);
     let (mut packed, mut refuted) = (0, 0);
     for case in 0..600 {
-        let items = random_items_of(&mut rng, true, (5, 6), 4);
-        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
-        let w = 3 + rng.below(7) as usize;
-        let d = ((area / w as f64).ceil() as usize + rng.below(3) as usize / 2).max(1);
-        if w * d > 64 {
+        let Some((items, w, d)) = tight_case(&mut rng, (5, 6), 7, 64) else {
             continue;
-        }
+        };
         let (wf, df) = (w as f64, d as f64);
         let want = packs_by_cells(&items, w, d);
         let what = format!("case {case}: {items:?} in {w} × {d}");
