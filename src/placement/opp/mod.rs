@@ -167,7 +167,7 @@ pub fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outco
 
 /// [`decide`], keeping `meter` up to date with the nodes visited ([`Search::metered`]; the
 /// caller adds the returned count when it returns), on `threads` threads (the same answer on
-/// any number: see [`search`]).
+/// any number: docs/algorithms.md, *Threads*).
 pub fn decide_metered(
     items: &[Item],
     w: f64,
