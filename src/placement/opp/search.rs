@@ -75,6 +75,7 @@ pub struct Search<'a> {
     /// Scratch buffers of [`Self::capacity_refutes`].
     buf_ends: Vec<(f64, f64)>,
     buf_pieces: Vec<(f64, f64)>,
+    buf_fill: Vec<(usize, usize)>,
     /// The depths' common grid, for the subset sums of [`Self::capacity_refutes`] (`None`: no
     /// grid coarse enough; free depth then counts in full), and its bitset buffers.
     grid: Option<subset::Grid>,
@@ -232,6 +233,7 @@ impl<'a> Search<'a> {
             by_width,
             buf_ends: Vec::new(),
             buf_pieces: Vec::new(),
+            buf_fill: Vec::new(),
             grid: subset::Grid::new(items, w, d),
             buf_bits: Vec::new(),
             buf_tmp: Vec::new(),
