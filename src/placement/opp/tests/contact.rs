@@ -1,0 +1,105 @@
+//! The contact enumeration: every contact cut against the enumeration without them, and the
+//! same best packing on any number of threads.
+
+use super::*;
+use std::cell::Cell;
+
+/// Every contact cut of the enumeration (left sides shared at one edge, bottoms over
+/// committed holes, dead states under a contact bound) keeps the best packing: on random small
+/// instances, the most contact over the BL-stable packings of a box is the same with the cuts
+/// (bound raised by every find) as without them. The first 300 cases count no far wall; the next 300 count random far walls (a
+/// box reaching the container's walls); the last 300 are boxes lying on any face, with random
+/// far walls.
+#[test]
+fn contact_cuts_keep_the_best_packing() {
+    let mut rng = Lcg(11);
+    let never = || false;
+    let (mut compared, mut lying) = (0, 0);
+    for case in 0..900 {
+        let far = if case < 300 {
+            [false; 2]
+        } else {
+            [rng.below(2) == 1, rng.below(2) == 1]
+        };
+        let items = if case < 600 {
+            random_items(&mut rng, false)
+        } else {
+            random_lying_items(&mut rng, (2, 3))
+        };
+        // Boxes near the items' least area, where packings exist and have waste to place.
+        let area: f64 = items.iter().map(least_area).sum();
+        let w = (2 + rng.below(5)) as f64;
+        let d = (area / w).ceil() + rng.below(3) as f64;
+        let mut all = f64::NEG_INFINITY;
+        let mut visit_all = |p: &[Pos]| {
+            if let Some(c) = contact_if_stable(&items, p, (w, d), far) {
+                all = all.max(c);
+            }
+            false
+        };
+        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_all, None, far, None);
+        assert!(done);
+        let bound = Cell::new(-1.0);
+        let mut best = f64::NEG_INFINITY;
+        let mut visit_cut = |p: &[Pos]| {
+            if let Some(c) = contact_if_stable(&items, p, (w, d), far) {
+                if c > bound.get() + 1e-9 {
+                    bound.set(c);
+                    best = c;
+                }
+            }
+            false
+        };
+        let (done, _) = Search::enumerate(&items, w, d, &never, &mut visit_cut, Some(&bound), far, None);
+        assert!(done);
+        assert!(
+            (all - best).abs() <= 1e-9 || (all.is_infinite() && best.is_infinite()),
+            "case {case}: {items:?} in {w} × {d}, far walls {far:?}: {all} without cuts, {best} with"
+        );
+        compared += all.is_finite() as u32;
+        lying += (case >= 600 && all.is_finite()) as u32;
+    }
+    assert!(
+        compared > 450 && lying > 150,
+        "{compared} compared, {lying} of boxes lying"
+    );
+}
+
+/// The best contact on two threads is the one thread's: the same score and the very same
+/// packing, on random instances of 4 to 7 items near their area (some boxes reaching the far
+/// walls) and on the consecutive squares 1…8 and 1…9 in their optimal boxes. A stop on two
+/// threads leaves the enumeration unfinished.
+#[test]
+fn threads_find_the_same_best_packing() {
+    let mut rng = Lcg(31);
+    let never = || false;
+    let mut cases: Vec<(Vec<Item>, f64, f64, [bool; 2])> = Vec::new();
+    for _ in 0..150 {
+        let items = random_items_of(&mut rng, true, (4, 4), 4);
+        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+        let w = (3 + rng.below(5)) as f64;
+        let d = (area / w).ceil() + rng.below(2) as f64;
+        cases.push((items, w, d, [rng.below(3) == 0, rng.below(3) == 0]));
+    }
+    for (n, w, d) in [(8usize, 15.0, 14.0), (9, 20.0, 15.0)] {
+        cases.push((squares(n), w, d, [false; 2]));
+    }
+    let mut found = 0;
+    for (case, (items, w, d, far)) in cases.iter().enumerate() {
+        let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
+        let one = best_packing(items, *w, *d, &never, &score, 0.0, *far, None, 1);
+        let two = best_packing(items, *w, *d, &never, &score, 0.0, *far, None, 2);
+        let what = format!("case {case}: {items:?} in {w} × {d}, far {far:?}");
+        assert!(one.1 && two.1, "{what}: finished");
+        assert_eq!(two.0, one.0, "{what}");
+        if let Some((_, p)) = &one.0 {
+            assert!(valid(items, p, *w, *d), "{what}");
+            found += 1;
+        }
+    }
+    assert!(found > 80, "{found}");
+    let always = || true;
+    let (items, w, d, far) = cases.last().expect("the squares");
+    let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
+    assert!(!best_packing(items, *w, *d, &always, &score, 0.0, *far, None, 2).1);
+}

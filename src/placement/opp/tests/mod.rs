@@ -1,0 +1,270 @@
+//! Tests of the packing search against enumeration and known packings: shared helpers,
+//! generators and the contact length from its definition here, the oracles the search does not
+//! share in `oracles`, the contact enumeration's cross-checks in `contact`.
+
+use super::*;
+
+fn squares(n: usize) -> Vec<Item> {
+    (1..=n)
+        .rev()
+        .map(|s| Item {
+            opts: vec![[s as f64, s as f64]],
+            class: s,
+        })
+        .collect()
+}
+
+/// Each item's rectangle `[x0, y0, x1, y1]`.
+fn rects(items: &[Item], p: &[Pos]) -> Vec<[f64; 4]> {
+    p.iter()
+        .zip(items)
+        .map(|(q, it)| {
+            let f = it.opts[q.opt];
+            [q.x, q.y, q.x + f[0], q.y + f[1]]
+        })
+        .collect()
+}
+
+fn valid(items: &[Item], p: &[Pos], w: f64, d: f64) -> bool {
+    let r = rects(items, p);
+    r.iter()
+        .all(|a| a[0] >= -1e-9 && a[1] >= -1e-9 && a[2] <= w + 1e-9 && a[3] <= d + 1e-9)
+        && (0..r.len()).all(|i| {
+            (i + 1..r.len()).all(|j| {
+                let (a, b) = (r[i], r[j]);
+                a[2].min(b[2]) - a[0].max(b[0]) <= 1e-9 || a[3].min(b[3]) - a[1].max(b[1]) <= 1e-9
+            })
+        })
+}
+
+#[test]
+fn squares_one_to_eight_fit_fourteen_by_fifteen_not_smaller() {
+    let it = squares(8);
+    let never = || false;
+    match Search::new(&it, 14.0, 15.0, &never).run() {
+        Outcome::Packed(p) => assert!(valid(&it, &p, 14.0, 15.0)),
+        o => panic!("expected a packing, got {o:?}"),
+    }
+    // 13 × 16 = 208 < 210: the optimum is 210 (OEIS A038666).
+    assert_eq!(Search::new(&it, 13.0, 16.0, &never).run(), Outcome::Infeasible);
+    assert_eq!(Search::new(&it, 12.0, 17.0, &never).run(), Outcome::Infeasible);
+}
+
+/// A small linear congruential generator (the tests need no statistics, only variety).
+pub(super) struct Lcg(pub(super) u64);
+impl Lcg {
+    pub(super) fn below(&mut self, n: u64) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 33) % n
+    }
+}
+
+/// 2 to 6 random items of integer sides 1 to 4, some rotatable, a third of them unit squares
+/// when `units`; identical items share a class and come in index order.
+fn random_items(rng: &mut Lcg, units: bool) -> Vec<Item> {
+    random_items_of(rng, units, (2, 5), 4)
+}
+
+/// [`random_items`] with `counts.0` to `counts.0 + counts.1 − 1` items of sides 1 to `side`.
+pub(super) fn random_items_of(rng: &mut Lcg, units: bool, counts: (usize, u64), side: u64) -> Vec<Item> {
+    let n = counts.0 + rng.below(counts.1) as usize;
+    let mut items: Vec<Item> = Vec::new();
+    for k in 0..n {
+        let (a, b) = if units && rng.below(3) == 0 {
+            (1.0, 1.0)
+        } else {
+            ((1 + rng.below(side)) as f64, (1 + rng.below(side)) as f64)
+        };
+        let opts = if a != b && rng.below(2) == 0 {
+            vec![[a, b], [b, a]]
+        } else {
+            vec![[a, b]]
+        };
+        let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
+        items.push(Item { opts, class });
+    }
+    items.sort_by_key(|it| it.class);
+    items
+}
+
+/// Random small instances with unit squares among rectangles (some rotatable), in random
+/// boxes: setting the units aside never changes the answer of the full search.
+#[test]
+fn setting_unit_items_aside_keeps_every_answer() {
+    let mut rng = Lcg(7);
+    let never = || false;
+    let (mut packed, mut refuted, mut with_units) = (0, 0, 0);
+    for case in 0..400 {
+        let items = random_items(&mut rng, true);
+        let (w, d) = ((1 + rng.below(6)) as f64, (1 + rng.below(6)) as f64);
+        let full = Search::new(&items, w, d, &never).run();
+        with_units += !unit_items(&items, w, d).is_empty() as u32;
+        let (r, _) = decide(&items, w, d, &never);
+        match (&full, &r) {
+            (Outcome::Packed(_), Outcome::Packed(p)) => {
+                assert!(valid(&items, p, w, d), "case {case}: {items:?} in {w} × {d}: {p:?}");
+                packed += 1;
+            }
+            (Outcome::Infeasible, Outcome::Infeasible) => refuted += 1,
+            _ => panic!("case {case}: {items:?} in {w} × {d}: full {full:?}, with units aside {r:?}"),
+        }
+    }
+    assert!(
+        packed > 50 && refuted > 50 && with_units > 50,
+        "{packed} {refuted} {with_units}"
+    );
+}
+
+/// The memo and the threads only change how fast an answer comes, never which: decided on two
+/// threads, and on one with memos of 4 records that start afresh again and again, random boxes
+/// and the consecutive squares 1…N (N = 9, 10, 11, 13) in every box up to their optimum give
+/// the very packing (or refutation) of the plain search, and the small memo hands the same
+/// complete x-assignments to the y-phase. A stop on two threads is `Stopped`, never a
+/// refutation.
+/// (The unit items are set aside in `decide_metered` and not in `Search::run`, so the two are
+/// compared only with each other.)
+#[test]
+fn threads_and_a_full_memo_change_no_answer() {
+    let never = || false;
+    let mut rng = Lcg(23);
+    let mut cases: Vec<(Vec<Item>, f64, f64)> = Vec::new();
+    for _ in 0..200 {
+        let items = random_items_of(&mut rng, true, (5, 5), 5);
+        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+        let w = (3 + rng.below(6)) as f64;
+        let d = ((area / w).ceil() + rng.below(3) as f64).max(3.0);
+        cases.push((items, w, d));
+    }
+    for (n, best) in [(9usize, 300usize), (10, 405), (11, 513), (13, 836)] {
+        let sum: usize = (1..=n).map(|s| s * s).sum();
+        for w in n..=best / n {
+            for d in (n..=w).filter(|&d| w * d >= sum && w * d <= best) {
+                cases.push((squares(n), w as f64, d as f64));
+            }
+        }
+    }
+    let (mut packed, mut refuted, mut restarts) = (0, 0, 0);
+    // Nodes and index of the refutation that took the most nodes.
+    let mut hardest = (0u64, 0usize);
+    for (case, (items, w, d)) in cases.iter().enumerate() {
+        let what = format!("case {case}: {items:?} in {w} × {d}");
+        let mut plain = Search::new(items, *w, *d, &never);
+        let r = plain.run();
+        let mut small = Search::new(items, *w, *d, &never);
+        small.memo_cap = 4;
+        assert_eq!(small.run(), r, "{what}: small memo");
+        assert_eq!(small.yleaves, plain.yleaves, "{what}: small memo, y-phase leaves");
+        restarts += (small.nodes > plain.nodes) as u32;
+        let (one, one_nodes) = decide_metered(items, *w, *d, &never, None, 1);
+        let two = decide_metered(items, *w, *d, &never, None, 2).0;
+        assert_eq!(two, one, "{what}: two threads");
+        match &r {
+            Outcome::Packed(p) => {
+                assert!(valid(items, p, *w, *d), "{what}");
+                packed += 1;
+            }
+            Outcome::Infeasible => {
+                refuted += 1;
+                hardest = hardest.max((one_nodes, case));
+            }
+            Outcome::Stopped => panic!("{what}: stopped without a stop"),
+        }
+    }
+    assert!(
+        packed > 40 && refuted > 40 && restarts > 10,
+        "{packed} {refuted} {restarts}"
+    );
+    // The hardest refutation among them, stopped at the first poll on two threads.
+    let (items, w, d) = &cases[hardest.1];
+    assert!(hardest.0 > 5_000, "{hardest:?}");
+    let always = || true;
+    assert_eq!(decide_metered(items, *w, *d, &always, None, 2).0, Outcome::Stopped);
+}
+
+/// Contact length of a packing in `w × d` placed at the container's corner, from the
+/// definition: shared edge lengths plus edges on x = 0 and y = 0, and on x = `w` and y = `d`
+/// where `far` says the box reaches the container's walls there; `None` when some item
+/// touches nothing on its left or below (not BL-stable).
+fn contact_if_stable(items: &[Item], p: &[Pos], (w, d): (f64, f64), far: [bool; 2]) -> Option<f64> {
+    let r = rects(items, p);
+    let walls: f64 = r
+        .iter()
+        .map(|a| {
+            let right = if far[0] && (a[2] - w).abs() <= 1e-9 {
+                a[3] - a[1]
+            } else {
+                0.0
+            };
+            let top = if far[1] && (a[3] - d).abs() <= 1e-9 {
+                a[2] - a[0]
+            } else {
+                0.0
+            };
+            right + top
+        })
+        .sum();
+    let ov = |a0: f64, a1: f64, b0: f64, b1: f64| (a1.min(b1) - a0.max(b0)).max(0.0);
+    let mut total = 0.0;
+    for a in &r {
+        let left: f64 = if a[0] <= 1e-9 {
+            a[3] - a[1]
+        } else {
+            r.iter()
+                .filter(|b| (b[2] - a[0]).abs() <= 1e-9)
+                .map(|b| ov(a[1], a[3], b[1], b[3]))
+                .sum()
+        };
+        let below: f64 = if a[1] <= 1e-9 {
+            a[2] - a[0]
+        } else {
+            r.iter()
+                .filter(|b| (b[3] - a[1]).abs() <= 1e-9)
+                .map(|b| ov(a[0], a[2], b[0], b[2]))
+                .sum()
+        };
+        if left <= 1e-9 || below <= 1e-9 {
+            return None;
+        }
+        total += left + below;
+    }
+    Some(total + walls)
+}
+
+/// The least area of an item's footprints.
+fn least_area(it: &Item) -> f64 {
+    it.opts.iter().map(|f| f[0] * f[1]).fold(f64::INFINITY, f64::min)
+}
+
+/// `counts.0` to `counts.0 + counts.1 − 1` random boxes of integer edges 1 to 3 that may lie on
+/// any face: each has the distinct footprints of its three faces, turned both ways, of
+/// different areas and perimeters (as the committed random sets, orientations `any`).
+fn random_lying_items(rng: &mut Lcg, counts: (usize, u64)) -> Vec<Item> {
+    let n = counts.0 + rng.below(counts.1) as usize;
+    let mut items: Vec<Item> = Vec::new();
+    for k in 0..n {
+        let [a, b, c] = [0; 3].map(|_| (1 + rng.below(3)) as f64);
+        let mut opts: Vec<[f64; 2]> = Vec::new();
+        for f in [[a, b], [b, a], [a, c], [c, a], [b, c], [c, b]] {
+            if !opts.contains(&f) {
+                opts.push(f);
+            }
+        }
+        let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
+        items.push(Item { opts, class });
+    }
+    items.sort_by_key(|it| it.class);
+    items
+}
+
+#[test]
+fn bounds_refute_only_what_cannot_fit() {
+    let it = squares(3);
+    assert!(refuted_by_bounds(&it, 4.0, 3.0));
+    assert!(!refuted_by_bounds(&it, 5.0, 3.0));
+}
+
+mod contact;
+mod oracles;
