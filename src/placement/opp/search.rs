@@ -129,8 +129,16 @@ pub struct Search<'a> {
     ycover: Vec<Vec<usize>>,
     yover: Vec<Vec<usize>>,
     yleft: Vec<Vec<usize>>,
-    /// The items off the left wall, grouped by left edge (current x-assignment).
+    /// The items off the left wall, grouped by left edge (current x-assignment), and per group
+    /// the right sides ending at that edge and the left contact the x-phase counted for it.
     ygroups: Vec<Vec<usize>>,
+    ygroup_ends: Vec<(f64, f64)>,
+    /// Per item, for the current x-assignment: its footprint, and the identical items before it
+    /// with the same footprint and left edge (placed before it when they share a bottom).
+    ydims: Vec<[f64; 2]>,
+    ytwins: Vec<Vec<usize>>,
+    /// The y-phase's floors, a row of one per item for each depth of its recursion.
+    yfloor: Vec<f64>,
 }
 
 impl<'a> Search<'a> {
@@ -262,6 +270,10 @@ impl<'a> Search<'a> {
             yover: vec![Vec::new(); n],
             yleft: vec![Vec::new(); n],
             ygroups: Vec::new(),
+            ygroup_ends: Vec::new(),
+            ydims: Vec::new(),
+            ytwins: vec![Vec::new(); n],
+            yfloor: Vec::new(),
         }
     }
 
