@@ -183,21 +183,23 @@ impl Search<'_> {
                 return false;
             }
         }
-        // Each depth of the recursion has its own row of floors.
+        // Each depth of the recursion has its own row of floors: the highest placed top over
+        // each item, which is its parent's row raised by the top of the item placed last
+        // (`last_idx`) over the items it overlaps in x.
         let row = placed * n;
-        for i in 0..n {
-            if done[i] {
-                continue;
+        if placed == 0 {
+            self.yfloor[..n].fill(0.0);
+        } else {
+            self.yfloor.copy_within(row - n..row, row);
+            let tp = top[last_idx];
+            for &i in &self.yover[last_idx] {
+                self.yfloor[row + i] = max(self.yfloor[row + i], tp);
             }
-            let floor = self.yover[i]
-                .iter()
-                .filter(|&&j| done[j])
-                .map(|&j| top[j])
-                .fold(0.0, max);
-            if floor + self.ydims[i][1] > self.d + self.t {
+        }
+        for i in 0..n {
+            if !done[i] && self.yfloor[row + i] + self.ydims[i][1] > self.d + self.t {
                 return false;
             }
-            self.yfloor[row + i] = floor;
         }
         for i in 0..n {
             if done[i] {
