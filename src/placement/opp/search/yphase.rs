@@ -196,10 +196,9 @@ impl Search<'_> {
                 self.yfloor[row + i] = max(self.yfloor[row + i], tp);
             }
         }
-        for i in 0..n {
-            if !done[i] && self.yfloor[row + i] + self.ydims[i][1] > self.d + self.t {
-                return false;
-            }
+        let floors = &self.yfloor[row..row + n];
+        if (0..n).any(|i| !done[i] && floors[i] + self.ydims[i][1] > self.d + self.t) {
+            return false;
         }
         for i in 0..n {
             if done[i] {
