@@ -15,8 +15,7 @@ const MAX_STEPS: f64 = 4096.0;
 
 /// The depths of the items in grid steps, and the bitset size.
 pub(super) struct Grid {
-    /// The step, a length.
-    pub(super) g: f64,
+    g: f64,
     words: usize,
     /// Per item, its distinct fitting depths in steps.
     steps: Vec<Vec<usize>>,
@@ -102,7 +101,12 @@ impl Grid {
     /// The largest sum in `bits` at most `f`, as a length.
     #[cfg(test)]
     pub(super) fn most(&self, bits: &[u64], f: f64) -> f64 {
-        self.most_steps(bits, self.steps_in(f)) as f64 * self.g
+        self.length(self.most_steps(bits, self.steps_in(f)))
+    }
+
+    /// `steps` grid steps as a length.
+    pub(super) fn length(&self, steps: usize) -> f64 {
+        steps as f64 * self.g
     }
 
     /// The length `f` in whole grid steps (0 below 0), for [`Self::most_steps`]: computed once

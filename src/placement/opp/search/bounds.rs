@@ -62,7 +62,7 @@ impl Search<'_> {
                         if f.1 < f.0 {
                             f.1 = g.most_steps(&bits, f.0);
                         }
-                        sum += p.0 * (f.1 as f64 * g.g);
+                        sum += p.0 * g.length(f.1);
                     }
                     sum
                 }
@@ -83,7 +83,7 @@ impl Search<'_> {
         if !refuted && min_idx > 0 {
             if let (Some(g), Some(&(first, f0))) = (&self.grid, pieces.first()) {
                 let q0 = g.steps_in(f0 + self.t);
-                let all = g.most_steps(&bits, q0) as f64 * g.g;
+                let all = g.length(g.most_steps(&bits, q0));
                 g.clear(&mut bits);
                 let mut loss = first * all;
                 for &i in self.by_width.iter() {
@@ -91,7 +91,7 @@ impl Search<'_> {
                         continue;
                     }
                     g.add(&mut bits, &mut tmp, i);
-                    let fill = g.most_steps(&bits, q0) as f64 * g.g;
+                    let fill = g.length(g.most_steps(&bits, q0));
                     loss = loss.min(first.min(self.min_width[i]) * (all - fill));
                     if loss <= 0.0 {
                         break;

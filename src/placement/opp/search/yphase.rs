@@ -87,10 +87,10 @@ impl Search<'_> {
                 .collect();
         }
         for k in 0..n {
-            let (a0, a1) = (self.x0[k], self.x0[k] + self.dims(k)[0]);
+            let (a0, a1) = (self.x0[k], self.x0[k] + self.ydims[k][0]);
             let (mut cover, mut over, mut left) = (Vec::new(), Vec::new(), Vec::new());
             for j in 0..n {
-                let (b0, b1) = (self.x0[j], self.x0[j] + self.dims(j)[0]);
+                let (b0, b1) = (self.x0[j], self.x0[j] + self.ydims[j][0]);
                 if b0 <= a0 + t && b1 > a0 + t {
                     cover.push(j);
                 }
@@ -119,8 +119,8 @@ impl Search<'_> {
             }
             self.ygroup_ends = (self.ygroups.iter())
                 .map(|group| {
-                    let ends: f64 = self.yleft[group[0]].iter().map(|&j| self.dims(j)[1]).sum();
-                    let sides: f64 = group.iter().map(|&k| self.dims(k)[1]).sum();
+                    let ends: f64 = self.yleft[group[0]].iter().map(|&j| self.ydims[j][1]).sum();
+                    let sides: f64 = group.iter().map(|&k| self.ydims[k][1]).sum();
                     (ends, ends.min(sides))
                 })
                 .collect();

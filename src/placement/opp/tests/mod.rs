@@ -83,8 +83,7 @@ pub(super) fn random_items_of(rng: &mut Lcg, units: bool, counts: (usize, u64), 
         } else {
             vec![[a, b]]
         };
-        let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
-        items.push(Item { opts, class });
+        push_item(&mut items, opts, k);
     }
     items.sort_by_key(|it| it.class);
     items
@@ -238,6 +237,13 @@ fn least_area(it: &Item) -> f64 {
     it.opts.iter().map(|f| f[0] * f[1]).fold(f64::INFINITY, f64::min)
 }
 
+/// Add an item of footprints `opts`, in the class of an earlier item with the same footprints
+/// or in class `k` of its own.
+fn push_item(items: &mut Vec<Item>, opts: Vec<[f64; 2]>, k: usize) {
+    let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
+    items.push(Item { opts, class });
+}
+
 /// `counts.0` to `counts.0 + counts.1 − 1` random boxes of integer edges 1 to 3 that may lie on
 /// any face: each has the distinct footprints of its three faces, turned both ways, of
 /// different areas and perimeters (as the committed random sets, orientations `any`).
@@ -252,8 +258,7 @@ fn random_lying_items(rng: &mut Lcg, counts: (usize, u64)) -> Vec<Item> {
                 opts.push(f);
             }
         }
-        let class = items.iter().find(|it| it.opts == opts).map(|it| it.class).unwrap_or(k);
-        items.push(Item { opts, class });
+        push_item(&mut items, opts, k);
     }
     items.sort_by_key(|it| it.class);
     items
