@@ -117,6 +117,10 @@ pub struct Search<'a> {
     far: [bool; 2],
     /// Left sides of placed items that cannot be in full contact, summed (x-phase).
     ldef: f64,
+    /// The free depth of the columns just left of `t` (0 at `t = 0`), and `ldef` when the
+    /// x-phase moved to `t`: see [`Self::rows_lost_ahead`].
+    hprev: f64,
+    ldef_at: f64,
     /// Bottom sides of items placed in the y-phase not in contact, summed.
     ydef: f64,
     /// Contact bound of the current complete x-assignment.
@@ -263,6 +267,8 @@ impl<'a> Search<'a> {
             cbound: None,
             far: [false; 2],
             ldef: 0.0,
+            hprev: 0.0,
+            ldef_at: 0.0,
             ydef: 0.0,
             ub_x: 0.0,
             cpruned: 0,
@@ -409,14 +415,18 @@ impl<'a> Search<'a> {
         let n = self.items.len();
         // The contact bound of this node: for the cut here and for the memo below.
         let ub = if self.cbound.is_some() { self.contact_ub() } else { 0.0 };
-        if let Some(cb) = self.cbound {
-            if ub <= cb.get() + 1e-9 {
-                self.cpruned += 1;
-                return false;
-            }
-        }
+        // The contact cut comes after the cuts that hold at any bound: a subtree cut by a bound
+        // is remembered only at that bound (below), so a node that capacity or a dead profile
+        // also cuts is better cut by them.
+        let contact_cut = |s: &mut Self| {
+            let cut = s
+                .cbound
+                .is_some_and(|cb| ub - s.rows_lost_ahead(t, placed_area + rem_area + waste) <= cb.get() + 1e-9);
+            s.cpruned += cut as u64;
+            cut
+        };
         if (0..n).all(|i| self.placed[i]) {
-            return self.ycheck();
+            return !contact_cut(self) && self.ycheck();
         }
         let tol = self.t * (self.w + self.d);
         if placed_area + rem_area + waste > self.w * self.d + tol {
@@ -430,8 +440,10 @@ impl<'a> Search<'a> {
         // are — and on the waste so far, which only makes pruning easier. A state whose subtree
         // failed without reaching the y-phase fails again at no less waste. When enumerating
         // under a contact bound, the contact cuts ahead depend on the state, on the right sides
-        // ending at `t` (put in the key) and on the contact bound of the placed part; the bound
-        // to beat only rises, so a subtree cut at some contact bound is cut again at no more.
+        // ending at `t` (put in the key; with the open objects they fix the free depth left of
+        // `t` that `rows_lost_ahead` counts) and on the contact bound of the placed part (`ub`,
+        // recorded without that term); the bound to beat only rises, so a subtree cut at some
+        // contact bound is cut again at no more.
         //
         //
         // A state that failed without a contact cut below it (always so without a contact
@@ -453,20 +465,22 @@ impl<'a> Search<'a> {
                     a[..] == *profile
                 }
             };
-            let mut dead = list.is_some_and(|l| l.iter().any(same));
+            let dead = list.is_some_and(|l| l.iter().any(same));
             self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| a[..] == *profile))) as u64;
-            if !dead {
-                if let Some(&(w0, u0)) = self.dead.get(k) {
-                    dead = w0 <= waste + tol && ub <= u0 + 1e-9;
+            if dead || contact_cut(self) {
+                return false;
+            }
+            if let Some(&(w0, u0)) = self.dead.get(k) {
+                if w0 <= waste + tol && ub <= u0 + 1e-9 {
                     // A record that depends on the contact bound makes whatever it cuts depend
                     // on it too: count it as a contact cut, so that no ancestor is recorded as
                     // dead at any bound.
-                    self.cpruned += dead as u64;
+                    self.cpruned += 1;
+                    return false;
                 }
             }
-            if dead {
-                return false;
-            }
+        } else if contact_cut(self) {
+            return false;
         }
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
@@ -600,6 +614,10 @@ impl<'a> Search<'a> {
                 return false;
             }
         }
-        self.xphase(next, 0, placed_area, rem_area, waste + (next - t) * cap)
+        let saved = (self.hprev, self.ldef_at);
+        (self.hprev, self.ldef_at) = (cap, self.ldef);
+        let found = self.xphase(next, 0, placed_area, rem_area, waste + (next - t) * cap);
+        (self.hprev, self.ldef_at) = saved;
+        found
     }
 }

@@ -127,4 +127,24 @@ impl Search<'_> {
         let far = if self.far[0] { self.d } else { 0.0 } + if self.far[1] { self.w } else { 0.0 };
         sides - self.ldef + far
     }
+
+    /// Left contact still to be lost on the rows free just left of `t` (`hprev` of them), beyond
+    /// what `ldef` counted at `t`. Each such row goes on free until the left side of an object
+    /// (contact lost there, at `t` or later) or to the box's right side, which costs `w − t` of
+    /// free area per unit of depth (or the far wall's contact, where it counts). `used` is the
+    /// area placed, still to place (least) and wasted, so the free area ahead is at most
+    /// `w·d − used`. A function of the memo's key and of the path below it, so the memo stays valid.
+    pub(super) fn rows_lost_ahead(&self, t: f64, used: f64) -> f64 {
+        if self.hprev <= self.t {
+            return 0.0;
+        }
+        let to_wall = if self.far[0] {
+            0.0
+        } else if self.w - t <= self.t {
+            return 0.0;
+        } else {
+            (self.w * self.d - used).max(0.0) / (self.w - t)
+        };
+        (self.hprev - to_wall - (self.ldef - self.ldef_at)).max(0.0)
+    }
 }
