@@ -143,6 +143,9 @@ pub struct Search<'a> {
     ytwins: Vec<Vec<usize>>,
     /// The y-phase's floors, a row of one per item for each depth of its recursion.
     yfloor: Vec<f64>,
+    /// The current x-assignment's columns, between consecutive item edges (enumeration under a
+    /// contact bound only): width and the items covering it.
+    ycols: Vec<(f64, Vec<usize>)>,
 }
 
 impl<'a> Search<'a> {
@@ -280,6 +283,7 @@ impl<'a> Search<'a> {
             ydims: Vec::new(),
             ytwins: vec![Vec::new(); n],
             yfloor: Vec::new(),
+            ycols: Vec::new(),
         }
     }
 

@@ -125,6 +125,22 @@ impl Search<'_> {
                 })
                 .collect();
         }
+        self.ycols.clear();
+        if self.cbound.is_some() {
+            let mut edges: Vec<f64> = (0..n)
+                .flat_map(|i| [self.x0[i], self.x0[i] + self.ydims[i][0]])
+                .collect();
+            edges.sort_by(f64::total_cmp);
+            edges.dedup_by(|a, b| *a - *b <= t);
+            for e in edges.windows(2) {
+                let cover: Vec<usize> = (0..n)
+                    .filter(|&j| self.x0[j] <= e[0] + t && self.x0[j] + self.ydims[j][0] >= e[1] - t)
+                    .collect();
+                if !cover.is_empty() {
+                    self.ycols.push((e[1] - e[0], cover));
+                }
+            }
+        }
         self.ub_x = self.contact_ub();
         self.ydef = 0.0;
         self.yphase(&mut done, &mut top, 0.0, 0, 0)
@@ -155,10 +171,12 @@ impl Search<'_> {
             }
             return true;
         }
+        let mut lost = 0.0;
         if self.visit.is_some() {
-            let Some(lost) = self.left_contact_lost(done, top, last_y) else {
+            let Some(l) = self.left_contact_lost(done, top, last_y) else {
                 return false;
             };
+            lost = l;
             if let Some(cb) = self.cbound {
                 if self.ub_x - self.ydef - lost <= cb.get() + 1e-9 {
                     self.cpruned += 1;
@@ -199,6 +217,29 @@ impl Search<'_> {
         let floors = &self.yfloor[row..row + n];
         if (0..n).any(|i| !done[i] && floors[i] + self.ydims[i][1] > self.d + self.t) {
             return false;
+        }
+        if let Some(cb) = self.cbound {
+            // Bottoms still to lose: the first item to go over a column sits on its placed top
+            // only if that top is at `last_y` or above and the item's floor is no higher; else
+            // its bottom faces free space over the whole column.
+            let mut wells = 0.0;
+            for (width, cover) in &self.ycols {
+                let (mut sky, mut lowest) = (0.0, f64::INFINITY);
+                for &j in cover {
+                    if done[j] {
+                        sky = max(sky, top[j]);
+                    } else {
+                        lowest = min(lowest, floors[j]);
+                    }
+                }
+                if lowest < f64::INFINITY && (sky < last_y - self.t || lowest > sky + self.t) {
+                    wells += width;
+                }
+            }
+            if self.ub_x - self.ydef - lost - wells <= cb.get() + 1e-9 {
+                self.cpruned += 1;
+                return false;
+            }
         }
         for i in 0..n {
             if done[i] {
