@@ -30,18 +30,30 @@ impl Search<'_> {
     /// touches something on its left (the BL-stable ones; the y-phase already rests every item
     /// on something below). A placed item off the left wall can be touched on its left only by
     /// items ending at its left edge: placed ones by their overlap in y, unplaced ones only
-    /// above `last_y` (every later item's bottom is at least `last_y`). `None`: some placed
+    /// above `last_y` (every later item's bottom is at least `last_y`); an unplaced item, which
+    /// sits at its floor (`floors`) or higher, by placed ones only above that. `None`: some placed
     /// item can no longer be touched, so no completion is BL-stable. Otherwise, the left
     /// contact now known to be missing beyond what the x-phase counted (`ldef`: for the items
     /// sharing a left edge, the least of their sides and the right sides ending there).
-    fn left_contact_lost(&self, done: &[bool], top: &[f64], last_y: f64) -> Option<f64> {
+    fn left_contact_lost(&self, done: &[bool], top: &[f64], last_y: f64, floors: &[f64]) -> Option<f64> {
         let mut lost = 0.0;
         for (group, &(ends, counted)) in self.ygroups.iter().zip(&self.ygroup_ends) {
             let mut can = 0.0;
             for &k in group {
                 let side = self.ydims[k][1];
                 if !done[k] {
-                    can += side;
+                    // It will sit at its floor or higher, and at `last_y` or higher: placed
+                    // items ending at its left edge touch it only above that.
+                    let lo = max(last_y, floors[k]);
+                    let mut room = 0.0;
+                    for &j in &self.yleft[k] {
+                        room += if done[j] {
+                            max(top[j] - max(lo, self.y0[j]), 0.0)
+                        } else {
+                            self.ydims[j][1]
+                        };
+                    }
+                    can += min(room, side);
                     continue;
                 }
                 let (y0, y1) = (self.y0[k], top[k]);
@@ -171,9 +183,22 @@ impl Search<'_> {
             }
             return true;
         }
+        // Each depth of the recursion has its own row of floors: the highest placed top over
+        // each item, which is its parent's row raised by the top of the item placed last
+        // (`last_idx`) over the items it overlaps in x.
+        let row = placed * n;
+        if placed == 0 {
+            self.yfloor[..n].fill(0.0);
+        } else {
+            self.yfloor.copy_within(row - n..row, row);
+            let tp = top[last_idx];
+            for &i in &self.yover[last_idx] {
+                self.yfloor[row + i] = max(self.yfloor[row + i], tp);
+            }
+        }
         let mut lost = 0.0;
         if self.visit.is_some() {
-            let Some(l) = self.left_contact_lost(done, top, last_y) else {
+            let Some(l) = self.left_contact_lost(done, top, last_y, &self.yfloor[row..row + n]) else {
                 return false;
             };
             lost = l;
@@ -199,19 +224,6 @@ impl Search<'_> {
             }
             if stack > self.t && base + stack > self.d + self.t {
                 return false;
-            }
-        }
-        // Each depth of the recursion has its own row of floors: the highest placed top over
-        // each item, which is its parent's row raised by the top of the item placed last
-        // (`last_idx`) over the items it overlaps in x.
-        let row = placed * n;
-        if placed == 0 {
-            self.yfloor[..n].fill(0.0);
-        } else {
-            self.yfloor.copy_within(row - n..row, row);
-            let tp = top[last_idx];
-            for &i in &self.yover[last_idx] {
-                self.yfloor[row + i] = max(self.yfloor[row + i], tp);
             }
         }
         let floors = &self.yfloor[row..row + n];
