@@ -236,15 +236,18 @@ impl Search<'_> {
             // its bottom faces free space over the whole column.
             let mut wells = 0.0;
             for (width, cover) in &self.ycols {
-                let (mut sky, mut lowest) = (0.0, f64::INFINITY);
+                let (mut sky, mut open) = (0.0, false);
                 for &j in cover {
                     if done[j] {
                         sky = max(sky, top[j]);
                     } else {
-                        lowest = min(lowest, floors[j]);
+                        open = true;
                     }
                 }
-                if lowest < f64::INFINITY && (sky < last_y - self.t || lowest > sky + self.t) {
+                // Items at `last_y` come in index order, so one before `last_idx` cannot sit there.
+                let at_last = (sky - last_y).abs() <= self.t;
+                let fits = |j: usize| !done[j] && floors[j] <= sky + self.t && !(at_last && j < last_idx);
+                if open && (sky < last_y - self.t || !cover.iter().any(|&j| fits(j))) {
                     wells += width;
                 }
             }
