@@ -135,13 +135,11 @@ impl Search<'_> {
     /// area placed, still to place (least) and wasted, so the free area ahead is at most
     /// `w·d − used`. A function of the memo's key and of the path below it, so the memo stays valid.
     pub(super) fn rows_lost_ahead(&self, t: f64, used: f64) -> f64 {
-        if self.hprev <= self.t {
+        if self.hprev <= self.t || (!self.far[0] && self.w - t <= self.t) {
             return 0.0;
         }
         let to_wall = if self.far[0] {
             0.0
-        } else if self.w - t <= self.t {
-            return 0.0;
         } else {
             (self.w * self.d - used).max(0.0) / (self.w - t)
         };

@@ -212,8 +212,9 @@ impl Search<'_> {
         // Every unplaced item goes at or above `last_y` (items go in the order of their bottom
         // edges), above the placed items in its columns: in each column, those covering it
         // stack on max(`last_y`, the highest placed top) within d. The stacked depth changes at
-        // left edges of unplaced items, the placed tops at left edges of placed ones.
-        for k in 0..n {
+        // left edges of unplaced items, the placed tops at left edges of placed ones. Under a
+        // contact bound the loop over all columns below checks this too.
+        for k in (0..n).filter(|_| self.cbound.is_none()) {
             let (mut stack, mut base) = (0.0, last_y);
             for &j in &self.ycover[k] {
                 if done[j] {
@@ -236,13 +237,17 @@ impl Search<'_> {
             // its bottom faces free space over the whole column.
             let mut wells = 0.0;
             for (width, cover) in &self.ycols {
-                let (mut sky, mut open) = (0.0, false);
+                let (mut sky, mut stack) = (0.0, 0.0);
                 for &j in cover {
                     if done[j] {
                         sky = max(sky, top[j]);
                     } else {
-                        open = true;
+                        stack += self.ydims[j][1];
                     }
+                }
+                let open = stack > self.t;
+                if open && max(sky, last_y) + stack > self.d + self.t {
+                    return false;
                 }
                 // Items at `last_y` come in index order, so one before `last_idx` cannot sit there.
                 let at_last = (sky - last_y).abs() <= self.t;
