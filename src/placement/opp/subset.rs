@@ -73,6 +73,7 @@ impl Grid {
 
     /// Add item `i` to the sums in `bits` (it contributes one of its depths or nothing);
     /// `tmp` is scratch.
+    #[inline]
     pub(super) fn add(&self, bits: &mut [u64], tmp: &mut Vec<u64>, i: usize) {
         if let [one] = bits {
             // Depths of at most 63 steps (the common case), in one word, without the copy.
@@ -105,6 +106,7 @@ impl Grid {
     }
 
     /// `steps` grid steps as a length.
+    #[inline]
     pub(super) fn length(&self, steps: usize) -> f64 {
         steps as f64 * self.g
     }
@@ -112,6 +114,7 @@ impl Grid {
     /// The length `f` in whole grid steps (0 below 0), for [`Self::most_steps`]: computed once
     /// where one length is asked about many times (`floor` is a library call, and it took 5 %
     /// of the packing search's time).
+    #[inline]
     pub(super) fn steps_in(&self, f: f64) -> usize {
         if f < 0.0 {
             return 0;
@@ -120,6 +123,7 @@ impl Grid {
     }
 
     /// The largest sum in `bits` at most `q` steps, in steps.
+    #[inline]
     pub(super) fn most_steps(&self, bits: &[u64], q: usize) -> usize {
         let (mut k, b) = (q / 64, q % 64);
         let mut word = bits[k] & (u64::MAX >> (63 - b));

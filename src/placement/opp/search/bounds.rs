@@ -48,21 +48,28 @@ impl Search<'_> {
             fill.extend(pieces.iter().map(|p| (g.steps_in(p.1 + self.t), 0)));
         }
         let mut last_avail = f64::INFINITY;
+        // Free depth only grows along the pieces (each end lowers the load), so those with at
+        // least `h` free are a suffix, which grows as `h` falls: the sum changes only where a
+        // piece joins it or a piece not yet full gains from the new sums.
+        let (mut from, mut sum) = (pieces.len(), 0.0);
         for &i in self.by_depth.iter().filter(|&&i| !self.placed[i]) {
             area += self.min_area[i];
             let h = self.min_depth[i];
             let avail: f64 = match &self.grid {
                 Some(g) => {
                     g.add(&mut bits, &mut tmp, i);
-                    let mut sum = 0.0;
-                    for (p, f) in pieces.iter().zip(fill.iter_mut()) {
-                        if p.1 < h - self.t {
-                            continue;
-                        }
+                    for (p, f) in pieces[from..].iter().zip(fill[from..].iter_mut()) {
                         if f.1 < f.0 {
-                            f.1 = g.most_steps(&bits, f.0);
+                            let m = g.most_steps(&bits, f.0);
+                            sum += p.0 * (g.length(m) - g.length(f.1));
+                            f.1 = m;
                         }
-                        sum += p.0 * g.length(f.1);
+                    }
+                    while from > 0 && pieces[from - 1].1 >= h - self.t {
+                        from -= 1;
+                        let f = &mut fill[from];
+                        f.1 = g.most_steps(&bits, f.0);
+                        sum += pieces[from].0 * g.length(f.1);
                     }
                     sum
                 }
@@ -84,21 +91,22 @@ impl Search<'_> {
             if let (Some(g), Some(&(first, f0))) = (&self.grid, pieces.first()) {
                 let q0 = g.steps_in(f0 + self.t);
                 let all = g.length(g.most_steps(&bits, q0));
-                g.clear(&mut bits);
                 let mut loss = first * all;
-                for &i in self.by_width.iter() {
-                    if i < min_idx || self.placed[i] || self.min_depth[i] > f0 + self.t {
-                        continue;
-                    }
-                    g.add(&mut bits, &mut tmp, i);
-                    let fill = g.length(g.most_steps(&bits, q0));
-                    loss = loss.min(first.min(self.min_width[i]) * (all - fill));
-                    if loss <= 0.0 {
-                        break;
-                    }
-                }
+                // The loss is at most that: when even that leaves room, nothing is refuted.
                 if area > last_avail - loss + tol {
-                    refuted = true;
+                    g.clear(&mut bits);
+                    for &i in self.by_width.iter() {
+                        if i < min_idx || self.placed[i] || self.min_depth[i] > f0 + self.t {
+                            continue;
+                        }
+                        g.add(&mut bits, &mut tmp, i);
+                        let fill = g.length(g.most_steps(&bits, q0));
+                        loss = loss.min(first.min(self.min_width[i]) * (all - fill));
+                        if loss <= 0.0 {
+                            break;
+                        }
+                    }
+                    refuted = area > last_avail - loss + tol;
                 }
             }
         }
