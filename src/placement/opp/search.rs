@@ -87,6 +87,10 @@ pub struct Search<'a> {
     opt: Vec<usize>,
     x0: Vec<f64>,
     placed: Vec<bool>,
+    /// The x-phase's placed items as (right edge, depth), sorted by right edge: those still
+    /// open at `t` are the suffix ending after it ([`Self::open_from`]). Kept in step with
+    /// `placed` in the x-phase, so that the checks at every node need not scan and sort.
+    xends: Vec<(f64, f64)>,
     y0: Vec<f64>,
     /// x-phase states (placed set, position, open objects, right sides ending at `t`) whose
     /// subtree the contact bound cut, with the waste and the contact bound at which it did.
@@ -255,6 +259,7 @@ impl<'a> Search<'a> {
             opt: vec![0; n],
             x0: vec![0.0; n],
             placed: vec![false; n],
+            xends: Vec::with_capacity(n),
             y0: vec![0.0; n],
             visit: None,
             dead: HashMap::default(),
@@ -333,9 +338,11 @@ impl<'a> Search<'a> {
         self.placed[i] = true;
         self.opt[i] = k;
         self.x0[i] = 0.0;
+        let at = self.add_end(f[0], f[1]);
         if self.xphase(0.0, i + 1, f[0] * f[1], rem - self.min_area[i], 0.0) {
             return Outcome::Packed(self.positions());
         }
+        self.xends.remove(at);
         self.placed[i] = false;
         if self.stopped {
             Outcome::Stopped
@@ -415,6 +422,7 @@ impl<'a> Search<'a> {
         if self.tick() {
             return false;
         }
+        debug_assert!(self.ends_in_step());
         let n = self.items.len();
         // The contact bound of this node: for the cut here and for the memo below.
         let ub = if self.cbound.is_some() { self.contact_ub() } else { 0.0 };
@@ -428,7 +436,7 @@ impl<'a> Search<'a> {
             s.cpruned += cut as u64;
             cut
         };
-        if (0..n).all(|i| self.placed[i]) {
+        if self.xends.len() == n {
             return !contact_cut(self) && self.ycheck();
         }
         let tol = self.t * (self.w + self.d);
@@ -521,21 +529,41 @@ impl<'a> Search<'a> {
         found
     }
 
+    /// Record a placed item's right edge and depth in [`Self::xends`]; returns where, for the
+    /// undo.
+    fn add_end(&mut self, end: f64, depth: f64) -> usize {
+        let at = self.xends.partition_point(|e| e.0 <= end);
+        self.xends.insert(at, (end, depth));
+        at
+    }
+
+    /// Invariant: [`Self::xends`] holds exactly the placed items' right edges and depths, in
+    /// order of right edge.
+    fn ends_in_step(&self) -> bool {
+        let mut want: Vec<(f64, f64)> = (0..self.items.len())
+            .filter(|&j| self.placed[j])
+            .map(|j| (self.x0[j] + self.dims(j)[0], self.dims(j)[1]))
+            .collect();
+        let mut have = self.xends.clone();
+        let by = |a: &(f64, f64), b: &(f64, f64)| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1));
+        want.sort_by(by);
+        have.sort_by(by);
+        self.xends.windows(2).all(|p| p[0].0 <= p[1].0) && want == have
+    }
+
+    /// Where the items still open at `t` (right edge after it) start in [`Self::xends`].
+    fn open_from(&self, t: f64) -> usize {
+        self.xends.partition_point(|e| e.0 <= t + self.t)
+    }
+
     /// The memo key of the x-phase state at `t`, lengths in units of the tolerance.
     fn state_key(&self, t: f64) -> StateKey {
         let q = |v: f64| (v / self.t).round() as i64;
         let n = self.items.len();
-        let mut mask = 0u64;
-        let mut active = Vec::new();
-        for j in 0..n {
-            if self.placed[j] {
-                mask |= 1 << j;
-                let e = self.x0[j] + self.dims(j)[0];
-                if e > t + self.t {
-                    active.push((q(e), q(self.dims(j)[1])));
-                }
-            }
-        }
+        let mask = (0..n).filter(|&j| self.placed[j]).fold(0u64, |m, j| m | 1 << j);
+        let open = &self.xends[self.open_from(t)..];
+        let mut active = Vec::with_capacity(open.len() + 1);
+        active.extend(open.iter().map(|&(e, h)| (q(e), q(h))));
         active.sort_unstable();
         if self.cbound.is_some() {
             // Contact bounds at `t` depend on the right sides ending there.
@@ -551,11 +579,11 @@ impl<'a> Search<'a> {
     /// The branches of [`Self::xphase`] at `t`.
     fn xbranch(&mut self, t: f64, min_idx: usize, placed_area: f64, rem_area: f64, waste: f64) -> bool {
         let n = self.items.len();
-        let load: f64 = (0..n)
-            .filter(|&j| self.placed[j] && self.x0[j] + self.dims(j)[0] > t + self.t)
-            .map(|j| self.dims(j)[1])
-            .sum();
+        let from = self.open_from(t);
+        let load: f64 = self.xends[from..].iter().map(|e| e.1).sum();
         let cap = self.d - load;
+        // The next right edge: nothing placed later starts before it.
+        let next = self.xends.get(from).map_or(f64::INFINITY, |e| e.0);
         // Right sides ending at `t` not yet taken by the left sides of the items placed at `t`:
         // the same for every branch here (each child restores what it places).
         let free_ends = if t <= self.t {
@@ -598,6 +626,7 @@ impl<'a> Search<'a> {
                 self.placed[i] = true;
                 self.opt[i] = k;
                 self.x0[i] = t;
+                let at = self.add_end(t + f[0], f[1]);
                 self.ldef += f[1] - left;
                 let a = f[0] * f[1];
                 let found = self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste);
@@ -605,18 +634,14 @@ impl<'a> Search<'a> {
                 if found {
                     return true;
                 }
+                self.xends.remove(at);
                 self.placed[i] = false;
                 if self.stopped {
                     return false;
                 }
             }
         }
-        // Advance to the next right edge: nothing placed later starts before it.
-        let next = (0..n)
-            .filter(|&j| self.placed[j])
-            .map(|j| self.x0[j] + self.dims(j)[0])
-            .filter(|&e| e > t + self.t)
-            .fold(f64::INFINITY, f64::min);
+        // Advance to the next right edge.
         if !next.is_finite() || next > self.w - self.t {
             return false;
         }

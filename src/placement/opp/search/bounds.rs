@@ -12,14 +12,7 @@ impl Search<'_> {
         let (mut ends, mut pieces) = (std::mem::take(&mut self.buf_ends), std::mem::take(&mut self.buf_pieces));
         ends.clear();
         pieces.clear();
-        let n = self.items.len();
-        ends.extend(
-            (0..n)
-                .filter(|&j| self.placed[j])
-                .map(|j| (self.x0[j] + self.dims(j)[0], self.dims(j)[1]))
-                .filter(|&(e, _)| e > t + self.t),
-        );
-        ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+        ends.extend_from_slice(&self.xends[self.open_from(t)..]);
         let mut load: f64 = ends.iter().map(|e| e.1).sum();
         let mut x = t;
         for &(e, h) in &ends {
