@@ -119,7 +119,9 @@ impl Grid {
         if f < 0.0 {
             return 0;
         }
-        ((f / self.g + 1e-6).floor() as usize).min(self.words * 64 - 1)
+        // Truncation is the floor here (not negative), without the libm call `floor` is on
+        // the baseline x86-64 target (4 % of the area stage's instructions).
+        ((f / self.g + 1e-6) as usize).min(self.words * 64 - 1)
     }
 
     /// The largest sum in `bits` at most `q` steps, in steps.
