@@ -154,11 +154,12 @@ pub struct Search<'a> {
 
 impl<'a> Search<'a> {
     /// Enumerate packings in `w × d` (every one whose objects all touch something on their left
-    /// and below among them; once each up to swapping identical objects) into `visit`. With `bound`, only packings
-    /// whose contact length (objects, the walls x = 0 and y = 0, and the far walls where `far`
-    /// says the box reaches them) may exceed it are guaranteed to be visited; the visitor may
-    /// raise it. `meter`: a node count kept up to date ([`Search::metered`]). Returns whether
-    /// the enumeration finished (`false`: stopped by `stop`) and the nodes visited.
+    /// and below among them; once each up to swapping identical objects) into `visit`. With
+    /// `bound`, only packings whose contact length (objects, the walls x = 0 and y = 0, and the
+    /// far walls where `far` says the box reaches them) may exceed it are guaranteed to be
+    /// visited; the visitor may raise it. `meter`: a node count kept up to date
+    /// ([`Search::metered`]). Returns whether the enumeration finished (`false`: stopped by
+    /// `stop`) and the nodes visited.
     #[allow(clippy::too_many_arguments)] // each is one independent input of the enumeration
     pub fn enumerate(
         items: &'a [Item],
