@@ -444,9 +444,6 @@ impl<'a> Search<'a> {
         if placed_area + rem_area + waste > self.w * self.d + tol {
             return false;
         }
-        if self.capacity_refutes(t, min_idx) {
-            return false;
-        }
         // States reached again by another order of the objects behind `t`: the x-phase ahead
         // depends only on which objects are placed, where the placed ones end, and how deep they
         // are — and on the waste so far, which only makes pruning easier. A state whose subtree
@@ -479,7 +476,9 @@ impl<'a> Search<'a> {
             };
             let dead = list.is_some_and(|l| l.iter().any(same));
             self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| a[..] == *profile))) as u64;
-            if dead || contact_cut(self) {
+            // A dead profile before the capacity check, which costs more: both are cuts at any
+            // bound, so the order changes no node, only what is paid.
+            if dead || self.capacity_refutes(t, min_idx) || contact_cut(self) {
                 return false;
             }
             if let Some(&(w0, u0)) = self.dead.get(k) {
@@ -491,7 +490,7 @@ impl<'a> Search<'a> {
                     return false;
                 }
             }
-        } else if contact_cut(self) {
+        } else if self.capacity_refutes(t, min_idx) || contact_cut(self) {
             return false;
         }
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
