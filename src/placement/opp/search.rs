@@ -73,7 +73,6 @@ pub struct Search<'a> {
     min_width: Vec<f64>,
     by_width: Vec<usize>,
     /// Scratch buffers of [`Self::capacity_refutes`].
-    buf_ends: Vec<(f64, f64)>,
     buf_pieces: Vec<(f64, f64)>,
     buf_fill: Vec<(usize, usize)>,
     /// The depths' common grid, for the subset sums of [`Self::capacity_refutes`] (`None`: no
@@ -250,7 +249,6 @@ impl<'a> Search<'a> {
             by_depth,
             min_width,
             by_width,
-            buf_ends: Vec::new(),
             buf_pieces: Vec::new(),
             buf_fill: Vec::new(),
             grid: subset::Grid::new(items, w, d),

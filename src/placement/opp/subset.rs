@@ -126,8 +126,9 @@ impl Grid {
         if f < 0.0 {
             return 0;
         }
-        // Truncation is the floor here (not negative), without the libm call `floor` is on
-        // the baseline x86-64 target (4 % of the area stage's instructions).
+        // Truncation is the floor of a value that is not negative, without a call to libm's
+        // `floor`, which is no instruction on the baseline x86-64 target (it was 4 % of the area
+        // stage's instructions).
         ((f / self.g + 1e-6) as i64 as usize).min(self.words * 64 - 1)
     }
 

@@ -9,13 +9,13 @@ impl Search<'_> {
     /// must fit in those columns' free area, for every such `h`.
     pub(super) fn capacity_refutes(&mut self, t: f64, min_idx: usize) -> bool {
         // Buffers kept between calls: this runs at every x-node.
-        let (mut ends, mut pieces) = (std::mem::take(&mut self.buf_ends), std::mem::take(&mut self.buf_pieces));
-        ends.clear();
+        let mut pieces = std::mem::take(&mut self.buf_pieces);
         pieces.clear();
-        ends.extend_from_slice(&self.xends[self.open_from(t)..]);
+        // The open objects' ends, in order (`xends`).
+        let ends = &self.xends[self.open_from(t)..];
         let mut load: f64 = ends.iter().map(|e| e.1).sum();
         let mut x = t;
-        for &(e, h) in &ends {
+        for &(e, h) in ends {
             pieces.push((e - x, self.d - load));
             load -= h;
             x = e;
@@ -106,7 +106,6 @@ impl Search<'_> {
         self.buf_fill = fill;
         self.buf_bits = bits;
         self.buf_tmp = tmp;
-        self.buf_ends = ends;
         self.buf_pieces = pieces;
         refuted
     }
