@@ -38,6 +38,15 @@ impl Hasher for FxHasher {
     }
 }
 
+/// The bit set of the first `n ≤ 64` indices.
+fn low_bits(n: usize) -> u64 {
+    if n >= 64 {
+        u64::MAX
+    } else {
+        (1 << n) - 1
+    }
+}
+
 /// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units.
 type Profile = Vec<(i64, i64)>;
 
@@ -86,6 +95,13 @@ pub struct Search<'a> {
     opt: Vec<usize>,
     x0: Vec<f64>,
     placed: Vec<bool>,
+    /// `placed` as bit sets (instances of at most 64 items; both 0 otherwise): by item, and the
+    /// items not placed by rank in `by_depth` (bit `r`: `by_depth[r]` is not placed), so that
+    /// the checks at every node visit only what they need. Kept by [`Self::set_placed`].
+    placed_mask: u64,
+    left_by_depth: u64,
+    /// Rank of each item in `by_depth`.
+    depth_rank: Vec<u32>,
     /// The x-phase's placed items as (right edge, depth), sorted by right edge: those still
     /// open at `t` are the suffix ending after it ([`Self::open_from`]). Kept in step with
     /// `placed` in the x-phase, so that the checks at every node need not scan and sort.
@@ -218,6 +234,10 @@ impl<'a> Search<'a> {
             .collect();
         let mut by_depth: Vec<usize> = (0..n).collect();
         by_depth.sort_by(|&a, &b| min_depth[b].total_cmp(&min_depth[a]));
+        let mut depth_rank = vec![0u32; n];
+        for (r, &i) in by_depth.iter().enumerate() {
+            depth_rank[i] = r as u32;
+        }
         let min_width: Vec<f64> = items
             .iter()
             .map(|it| fitting(it, w, d).map(|g| g[0]).fold(f64::INFINITY, f64::min))
@@ -258,6 +278,9 @@ impl<'a> Search<'a> {
             opt: vec![0; n],
             x0: vec![0.0; n],
             placed: vec![false; n],
+            placed_mask: 0,
+            left_by_depth: if n <= 64 { low_bits(n) } else { 0 },
+            depth_rank,
             xends: Vec::with_capacity(n),
             y0: vec![0.0; n],
             visit: None,
@@ -334,7 +357,7 @@ impl<'a> Search<'a> {
         self.stopped = false;
         let rem: f64 = self.min_area.iter().sum();
         let f = self.items[i].opts[k];
-        self.placed[i] = true;
+        self.set_placed(i, true);
         self.opt[i] = k;
         self.x0[i] = 0.0;
         let at = self.add_end(f[0], f[1]);
@@ -342,7 +365,7 @@ impl<'a> Search<'a> {
             return Outcome::Packed(self.positions());
         }
         self.xends.remove(at);
-        self.placed[i] = false;
+        self.set_placed(i, false);
         if self.stopped {
             Outcome::Stopped
         } else {
@@ -370,7 +393,9 @@ impl<'a> Search<'a> {
         self.anchor = None;
         self.opt.copy_from_slice(opt);
         self.x0.copy_from_slice(x0);
-        self.placed.iter_mut().for_each(|p| *p = true);
+        for i in 0..self.items.len() {
+            self.set_placed(i, true);
+        }
         if self.ycheck() {
             Outcome::Packed(self.positions())
         } else if self.stopped {
@@ -422,6 +447,7 @@ impl<'a> Search<'a> {
             return false;
         }
         debug_assert!(self.ends_in_step());
+        debug_assert!(self.masks_in_step());
         let n = self.items.len();
         // The contact bound of this node: for the cut here and for the memo below.
         let ub = if self.cbound.is_some() { self.contact_ub() } else { 0.0 };
@@ -535,6 +561,33 @@ impl<'a> Search<'a> {
         at
     }
 
+    /// Mark item `i` placed or not, in `placed` and its bit sets.
+    fn set_placed(&mut self, i: usize, on: bool) {
+        self.placed[i] = on;
+        if self.items.len() <= 64 {
+            let (b, r) = (1u64 << i, 1u64 << self.depth_rank[i]);
+            if on {
+                self.placed_mask |= b;
+                self.left_by_depth &= !r;
+            } else {
+                self.placed_mask &= !b;
+                self.left_by_depth |= r;
+            }
+        }
+    }
+
+    /// Invariant: the bit sets of [`Self::set_placed`] say what `placed` says.
+    fn masks_in_step(&self) -> bool {
+        let n = self.items.len();
+        n > 64
+            || (0..n).all(|i| {
+                let r = self.depth_rank[i];
+                self.by_depth[r as usize] == i
+                    && (self.placed_mask >> i & 1 == 1) == self.placed[i]
+                    && (self.left_by_depth >> r & 1 == 1) != self.placed[i]
+            }) && (self.left_by_depth | self.placed_mask) & !low_bits(n) == 0
+    }
+
     /// Invariant: [`Self::xends`] holds exactly the placed items' right edges and depths, in
     /// order of right edge.
     fn ends_in_step(&self) -> bool {
@@ -558,7 +611,7 @@ impl<'a> Search<'a> {
     fn state_key(&self, t: f64) -> StateKey {
         let q = |v: f64| (v / self.t).round() as i64;
         let n = self.items.len();
-        let mask = (0..n).filter(|&j| self.placed[j]).fold(0u64, |m, j| m | 1 << j);
+        let mask = self.placed_mask;
         let open = &self.xends[self.open_from(t)..];
         let mut active = Vec::with_capacity(open.len() + 1);
         active.extend(open.iter().map(|&(e, h)| (q(e), q(h))));
@@ -621,7 +674,7 @@ impl<'a> Search<'a> {
                 // objects starting at `t` share the right sides of those ending there, so what
                 // the ones placed at `t` before it took is not left for it.
                 let left = free_ends.min(f[1]);
-                self.placed[i] = true;
+                self.set_placed(i, true);
                 self.opt[i] = k;
                 self.x0[i] = t;
                 let at = self.add_end(t + f[0], f[1]);
@@ -633,7 +686,7 @@ impl<'a> Search<'a> {
                     return true;
                 }
                 self.xends.remove(at);
-                self.placed[i] = false;
+                self.set_placed(i, false);
                 if self.stopped {
                     return false;
                 }

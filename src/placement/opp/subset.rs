@@ -86,6 +86,25 @@ impl Grid {
         self.add_wide(bits, tmp, i);
     }
 
+    /// Whether the sums fit one word (every depth within 63 steps): [`Self::add_word`] and
+    /// [`most_in_word`] then do the work of [`Self::add`] and [`Self::most_steps`].
+    pub(super) fn one_word(&self) -> bool {
+        self.words == 1
+    }
+
+    /// The sums `bits` (one word) with item `i` added.
+    #[inline]
+    pub(super) fn add_word(&self, bits: u64, i: usize) -> u64 {
+        self.steps[i].iter().fold(bits, |acc, &s| acc | bits << s)
+    }
+
+    /// `steps` grid steps as a length, for a count of steps already multiplied by widths (an
+    /// area in width × steps).
+    #[inline]
+    pub(super) fn length_of(&self, steps: f64) -> f64 {
+        steps * self.g
+    }
+
     /// [`Self::add`] on sums wider than one word, out of line so that the common case inlines.
     #[inline(never)]
     fn add_wide(&self, bits: &mut [u64], tmp: &mut Vec<u64>, i: usize) {
@@ -148,6 +167,13 @@ impl Grid {
             word = bits[k];
         }
     }
+}
+
+/// The largest sum in the one-word sums `bits` at most `q ≤ 63` steps, in steps (the empty sum
+/// is always there).
+#[inline]
+pub(super) fn most_in_word(bits: u64, q: usize) -> usize {
+    63 - (bits & (u64::MAX >> (63 - q))).leading_zeros() as usize
 }
 
 #[cfg(test)]
