@@ -140,6 +140,9 @@ pub struct Search<'a> {
     /// x-phase moved to `t`: see [`Self::rows_lost_ahead`].
     hprev: f64,
     ldef_at: f64,
+    /// Depths of the items the x-phase placed at its current position, summed (their left
+    /// sides share the right sides ending there).
+    starts_at_t: f64,
     /// Bottom sides of items placed in the y-phase not in contact, summed.
     ydef: f64,
     /// Contact bound of the current complete x-assignment.
@@ -298,6 +301,7 @@ impl<'a> Search<'a> {
             ldef: 0.0,
             hprev: 0.0,
             ldef_at: 0.0,
+            starts_at_t: 0.0,
             ydef: 0.0,
             ub_x: 0.0,
             cpruned: 0,
@@ -640,15 +644,14 @@ impl<'a> Search<'a> {
         let free_ends = if t <= self.t {
             f64::INFINITY
         } else {
-            let (mut ends, mut starts) = (0.0, 0.0);
-            for j in (0..n).filter(|&j| self.placed[j]) {
-                if (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t {
-                    ends += self.dims(j)[1];
-                } else if (self.x0[j] - t).abs() <= self.t {
-                    starts += self.dims(j)[1];
-                }
-            }
-            f64::max(ends - starts, 0.0)
+            // The ends at `t` are the last of `xends` before the open ones.
+            let ends: f64 = self.xends[..from]
+                .iter()
+                .rev()
+                .take_while(|e| e.0 >= t - self.t)
+                .map(|e| e.1)
+                .sum();
+            f64::max(ends - self.starts_at_t, 0.0)
         };
         for i in min_idx..n {
             if self.placed[i] || self.prev_same[i].is_some_and(|p| !self.placed[p]) {
@@ -679,9 +682,11 @@ impl<'a> Search<'a> {
                 self.x0[i] = t;
                 let at = self.add_end(t + f[0], f[1]);
                 self.ldef += f[1] - left;
+                self.starts_at_t += f[1];
                 let a = f[0] * f[1];
                 let found = self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste);
                 self.ldef -= f[1] - left;
+                self.starts_at_t -= f[1];
                 if found {
                     return true;
                 }
@@ -701,10 +706,10 @@ impl<'a> Search<'a> {
                 return false;
             }
         }
-        let saved = (self.hprev, self.ldef_at);
-        (self.hprev, self.ldef_at) = (cap, self.ldef);
+        let saved = (self.hprev, self.ldef_at, self.starts_at_t);
+        (self.hprev, self.ldef_at, self.starts_at_t) = (cap, self.ldef, 0.0);
         let found = self.xphase(next, 0, placed_area, rem_area, waste + (next - t) * cap);
-        (self.hprev, self.ldef_at) = saved;
+        (self.hprev, self.ldef_at, self.starts_at_t) = saved;
         found
     }
 }

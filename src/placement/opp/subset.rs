@@ -95,7 +95,11 @@ impl Grid {
     /// The sums `bits` (one word) with item `i` added.
     #[inline]
     pub(super) fn add_word(&self, bits: u64, i: usize) -> u64 {
-        self.steps[i].iter().fold(bits, |acc, &s| acc | bits << s)
+        // Most items have one fitting depth (the squares): that one without the loop.
+        match self.steps[i][..] {
+            [s] => bits | bits << s,
+            ref all => all.iter().fold(bits, |acc, &s| acc | bits << s),
+        }
     }
 
     /// `steps` grid steps as a length, for a count of steps already multiplied by widths (an
