@@ -7,14 +7,14 @@
 /// least as deep in sum as `a`'s. The load is a step function falling at ends, so comparing it
 /// just left of each of `a`'s ends covers every column. Lengths are rounded to the tolerance;
 /// a rounding difference only makes the answer `false`, which keeps the search complete.
-pub(super) fn dominated(b: &[(i64, i64)], a: &[(i64, i64)]) -> bool {
+pub(super) fn dominated(b: &[(i32, i32)], a: &[(i32, i32)]) -> bool {
     let mut j = b.len();
     let (mut sa, mut sb) = (0i64, 0i64);
     for &(e, h) in a.iter().rev() {
-        sa += h;
+        sa += h as i64;
         while j > 0 && b[j - 1].0 >= e {
             j -= 1;
-            sb += b[j].1;
+            sb += b[j].1 as i64;
         }
         if sb < sa {
             return false;
@@ -31,12 +31,12 @@ mod tests {
     use proptest::prelude::*;
 
     /// The load of open objects at column `x` (those ending after it).
-    fn load(p: &[(i64, i64)], x: i64) -> i64 {
-        p.iter().filter(|&&(e, _)| e > x).map(|&(_, h)| h).sum()
+    fn load(p: &[(i32, i32)], x: i32) -> i64 {
+        p.iter().filter(|&&(e, _)| e > x).map(|&(_, h)| h as i64).sum()
     }
 
-    fn profile() -> impl Strategy<Value = Vec<(i64, i64)>> {
-        prop::collection::vec((1i64..12, 1i64..6), 0..6).prop_map(|mut v| {
+    fn profile() -> impl Strategy<Value = Vec<(i32, i32)>> {
+        prop::collection::vec((1i32..12, 1i32..6), 0..6).prop_map(|mut v| {
             v.sort_unstable();
             v
         })

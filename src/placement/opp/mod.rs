@@ -23,8 +23,9 @@
 //! compacted packing and compacting it again moves nothing right or up).
 
 /// An x-phase state: placed set, position, (end, depth) of the placed objects still open; lengths
-/// in units of the tolerance.
-type StateKey = (u64, i64, Vec<(i64, i64)>);
+/// in units of the tolerance. The open objects' lengths fit 32 bits (a length of at most `w + d`
+/// is below 10⁹ tolerances, [`tol`]), which halves what the memo keeps per state.
+type StateKey = (u64, i64, Vec<(i32, i32)>);
 
 /// Most x-phase states remembered as dead at once, per memo and search thread (about 150 bytes
 /// each: some 75 MB). A full memo starts afresh. Measured on the box 71 × 47 of squares 1…21

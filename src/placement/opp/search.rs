@@ -48,7 +48,7 @@ fn low_bits(n: usize) -> u64 {
 }
 
 /// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units.
-type Profile = Vec<(i64, i64)>;
+type Profile = Box<[(i32, i32)]>;
 
 /// What enumeration hands each packing to; `true` stops it.
 pub type Visitor<'a> = dyn FnMut(&[Pos]) -> bool + 'a;
@@ -533,7 +533,7 @@ impl<'a> Search<'a> {
                     self.dominant.clear();
                     self.dominant_len = 0;
                 }
-                let profile = k.2[..k.2.len() - self.cbound.is_some() as usize].to_vec();
+                let profile: Profile = k.2[..k.2.len() - self.cbound.is_some() as usize].into();
                 let list = self.dominant.entry((k.0, k.1)).or_default();
                 // Records this one dominates are redundant: whatever they cut, it cuts.
                 let before = list.len();
@@ -613,22 +613,23 @@ impl<'a> Search<'a> {
 
     /// The memo key of the x-phase state at `t`, lengths in units of the tolerance.
     fn state_key(&self, t: f64) -> StateKey {
-        let q = |v: f64| (v / self.t).round() as i64;
-        let n = self.items.len();
-        let mask = self.placed_mask;
-        let open = &self.xends[self.open_from(t)..];
+        let q = |v: f64| (v / self.t).round() as i32;
+        let from = self.open_from(t);
+        let open = &self.xends[from..];
         let mut active = Vec::with_capacity(open.len() + 1);
         active.extend(open.iter().map(|&(e, h)| (q(e), q(h))));
         active.sort_unstable();
         if self.cbound.is_some() {
             // Contact bounds at `t` depend on the right sides ending there.
-            let ends: f64 = (0..n)
-                .filter(|&j| self.placed[j] && (self.x0[j] + self.dims(j)[0] - t).abs() <= self.t)
-                .map(|j| self.dims(j)[1])
+            let ends: f64 = self.xends[..from]
+                .iter()
+                .rev()
+                .take_while(|e| e.0 >= t - self.t)
+                .map(|e| e.1)
                 .sum();
-            active.push((i64::MIN, q(ends)));
+            active.push((i32::MIN, q(ends)));
         }
-        (mask, q(t), active)
+        (self.placed_mask, (t / self.t).round() as i64, active)
     }
 
     /// The branches of [`Self::xphase`] at `t`.
