@@ -134,6 +134,9 @@ pub struct Search<'a> {
     /// The box reaches the container's far walls (x = its width, y = its depth), which then
     /// count as contact.
     far: [bool; 2],
+    /// [`Self::sides_now`], kept by the x-phase as it places and removes items (restored, not
+    /// subtracted, so that no rounding accumulates).
+    xsides: f64,
     /// Left sides of placed items that cannot be in full contact, summed (x-phase).
     ldef: f64,
     /// The free depth of the columns just left of `t` (0 at `t = 0`), and `ldef` when the
@@ -256,6 +259,7 @@ impl<'a> Search<'a> {
         let anchor = (0..n)
             .filter(|&i| prev_same[i].is_none() && min_area[i].is_finite())
             .max_by(|&a, &b| min_area[a].total_cmp(&min_area[b]));
+        let xsides = max_sides.iter().sum();
         Search {
             items,
             w,
@@ -298,6 +302,7 @@ impl<'a> Search<'a> {
             dead_enabled: n <= 64,
             cbound: None,
             far: [false; 2],
+            xsides,
             ldef: 0.0,
             hprev: 0.0,
             ldef_at: 0.0,
@@ -365,9 +370,12 @@ impl<'a> Search<'a> {
         self.opt[i] = k;
         self.x0[i] = 0.0;
         let at = self.add_end(f[0], f[1]);
+        let sides = self.xsides;
+        self.xsides += f[0] + f[1] - self.max_sides[i];
         if self.xphase(0.0, i + 1, f[0] * f[1], rem - self.min_area[i], 0.0) {
             return Outcome::Packed(self.positions());
         }
+        self.xsides = sides;
         self.xends.remove(at);
         self.set_placed(i, false);
         if self.stopped {
@@ -452,6 +460,7 @@ impl<'a> Search<'a> {
         }
         debug_assert!(self.ends_in_step());
         debug_assert!(self.masks_in_step());
+        debug_assert!(self.sides_in_step());
         let n = self.items.len();
         // The contact bound of this node: for the cut here and for the memo below.
         let ub = if self.cbound.is_some() { self.contact_ub() } else { 0.0 };
@@ -580,6 +589,11 @@ impl<'a> Search<'a> {
         }
     }
 
+    /// Invariant: `xsides` is [`Self::sides_now`] up to rounding.
+    fn sides_in_step(&self) -> bool {
+        (self.xsides - self.sides_now()).abs() <= 1e-9 * (1.0 + self.xsides.abs())
+    }
+
     /// Invariant: the bit sets of [`Self::set_placed`] say what `placed` says.
     fn masks_in_step(&self) -> bool {
         let n = self.items.len();
@@ -684,8 +698,11 @@ impl<'a> Search<'a> {
                 let at = self.add_end(t + f[0], f[1]);
                 self.ldef += f[1] - left;
                 self.starts_at_t += f[1];
+                let sides = self.xsides;
+                self.xsides += f[0] + f[1] - self.max_sides[i];
                 let a = f[0] * f[1];
                 let found = self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste);
+                self.xsides = sides;
                 self.ldef -= f[1] - left;
                 self.starts_at_t -= f[1];
                 if found {
