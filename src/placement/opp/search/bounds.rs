@@ -16,7 +16,11 @@ impl Search<'_> {
         let mut load: f64 = ends.iter().map(|e| e.1).sum();
         let mut x = t;
         for &(e, h) in ends {
-            pieces.push((e - x, self.d - load));
+            // Objects ending together leave pieces of no width between them, which hold
+            // nothing: left out (the suffix and fill loops below visit every piece per item).
+            if e - x > self.t {
+                pieces.push((e - x, self.d - load));
+            }
             load -= h;
             x = e;
         }
