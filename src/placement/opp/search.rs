@@ -121,6 +121,9 @@ pub struct Search<'a> {
     /// Whether [`dominated`] states are cut (off only to test that it changes no answer), and
     /// how many were.
     pub(super) dominance: bool,
+    /// Whether the capacity check sums in one word where the sums fit one (off only to test
+    /// that path against the general loop).
+    pub(super) word_sums: bool,
     pub(super) dominance_cuts: u64,
     /// Complete x-assignments handed to the y-phase so far.
     pub(super) yleaves: u64,
@@ -296,6 +299,7 @@ impl<'a> Search<'a> {
             dominant_len: 0,
             memo_cap: DEAD_MAX,
             dominance: true,
+            word_sums: true,
             dominance_cuts: 0,
             yleaves: 0,
             // The state key is a 64-bit set; so large an instance is out of reach anyway.

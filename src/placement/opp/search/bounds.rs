@@ -51,7 +51,7 @@ impl Search<'_> {
         match &self.grid {
             // Sums in one machine word (depths of at most 63 steps: the squares' boxes and the
             // random sets), with the pieces not yet full as a bitmask: the loop below, in words.
-            Some(g) if g.one_word() && self.items.len() <= 63 => {
+            Some(g) if self.word_sums && g.one_word() && self.items.len() <= 63 => {
                 (refuted, area, last_avail) = self.fill_in_word(g, &pieces, &mut fill, &mut bits[0]);
             }
             _ => {

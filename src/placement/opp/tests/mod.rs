@@ -3,6 +3,7 @@
 //! share in `oracles`, the contact enumeration's cross-checks in `contact`.
 
 use super::*;
+use std::cell::Cell;
 
 fn squares(n: usize) -> Vec<Item> {
     (1..=n)
@@ -181,6 +182,78 @@ fn threads_and_a_full_memo_change_no_answer() {
     assert!(hardest.0 > 5_000, "{hardest:?}");
     let always = || true;
     assert_eq!(decide_metered(items, *w, *d, &always, None, 2).0, Outcome::Stopped);
+}
+
+/// The capacity check's one-word path (`Search::fill_in_word`) refutes exactly what the
+/// general loop over bitset slices does: the same answers and the same nodes, in decisions and
+/// in enumerations under a contact bound, on integer sizes and on a half-unit grid.
+#[test]
+fn the_capacity_check_in_one_word_matches_the_general_loop() {
+    let never = || false;
+    let mut rng = Lcg(41);
+    let mut cases: Vec<(Vec<Item>, f64, f64)> = Vec::new();
+    for k in 0..160 {
+        let mut items = random_items_of(&mut rng, true, (5, 5), 5);
+        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+        let mut w = (3 + rng.below(6)) as f64;
+        let mut d = ((area / w).ceil() + rng.below(3) as f64).max(3.0);
+        if k % 4 == 0 {
+            // Half the sizes: a grid of 0.5 over the same boxes.
+            for it in &mut items {
+                it.opts.iter_mut().flatten().for_each(|v| *v /= 2.0);
+            }
+            (w, d) = (w / 2.0, d / 2.0);
+        }
+        cases.push((items, w, d));
+    }
+    for (w, d) in [(20.0, 15.0), (23.0, 13.0), (21.0, 14.0)] {
+        cases.push((squares(9), w, d));
+    }
+    let (mut refuted, mut packed, mut enumerated) = (0, 0, 0);
+    for (case, (items, w, d)) in cases.iter().enumerate() {
+        let what = format!("case {case}: {items:?} in {w} × {d}");
+        assert!(
+            subset::Grid::new(items, *w, *d).is_some_and(|g| g.one_word()),
+            "{what}: one word"
+        );
+        let mut word = Search::new(items, *w, *d, &never);
+        let mut general = Search::new(items, *w, *d, &never);
+        general.word_sums = false;
+        let r = word.run();
+        assert_eq!(general.run(), r, "{what}");
+        assert_eq!(general.nodes, word.nodes, "{what}: nodes");
+        match r {
+            Outcome::Infeasible => refuted += 1,
+            Outcome::Packed(_) => packed += 1,
+            Outcome::Stopped => panic!("{what}: stopped without a stop"),
+        }
+        if case % 3 == 0 {
+            // The contact enumeration, each way: the same best contact in the same nodes.
+            let best = |word_sums: bool| {
+                let bound = Cell::new(0.0f64);
+                let mut top = 0.0f64;
+                let mut visit = |p: &[Pos]| {
+                    if let Some(c) = contact_if_stable(items, p, (*w, *d), [false; 2]) {
+                        top = top.max(c);
+                        bound.set(bound.get().max(c));
+                    }
+                    false
+                };
+                let mut s = Search::enumerator(items, *w, *d, &never, &mut visit, Some(&bound), [false; 2]);
+                s.word_sums = word_sums;
+                let done = matches!(s.run(), Outcome::Infeasible);
+                let nodes = s.nodes;
+                drop(s);
+                (done, nodes, top)
+            };
+            assert_eq!(best(false), best(true), "{what}: enumeration");
+            enumerated += 1;
+        }
+    }
+    assert!(
+        refuted > 30 && packed > 30 && enumerated > 40,
+        "{refuted} {packed} {enumerated}"
+    );
 }
 
 /// Contact length of a packing in `w × d` placed at the container's corner, from the
