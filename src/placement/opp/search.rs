@@ -629,6 +629,17 @@ impl<'a> Search<'a> {
         self.xends.partition_point(|e| e.0 <= t + self.t)
     }
 
+    /// The depths of the placed items whose right side ends at `t`, summed: the last entries
+    /// of `xends` before `from`, where the open ones start ([`Self::open_from`]).
+    fn ends_at(&self, t: f64, from: usize) -> f64 {
+        self.xends[..from]
+            .iter()
+            .rev()
+            .take_while(|e| e.0 >= t - self.t)
+            .map(|e| e.1)
+            .sum()
+    }
+
     /// The memo key of the x-phase state at `t`, lengths in units of the tolerance.
     fn state_key(&self, t: f64) -> StateKey {
         // Lengths here are not negative, so rounding is truncation after adding one half: `round`
@@ -642,13 +653,7 @@ impl<'a> Search<'a> {
         active.sort_unstable();
         if self.cbound.is_some() {
             // Contact bounds at `t` depend on the right sides ending there.
-            let ends: f64 = self.xends[..from]
-                .iter()
-                .rev()
-                .take_while(|e| e.0 >= t - self.t)
-                .map(|e| e.1)
-                .sum();
-            active.push((i32::MIN, q(ends)));
+            active.push((i32::MIN, q(self.ends_at(t, from))));
         }
         (self.placed_mask, (t / self.t + 0.5) as i64, active)
     }
@@ -666,14 +671,7 @@ impl<'a> Search<'a> {
         let free_ends = if t <= self.t {
             f64::INFINITY
         } else {
-            // The ends at `t` are the last of `xends` before the open ones.
-            let ends: f64 = self.xends[..from]
-                .iter()
-                .rev()
-                .take_while(|e| e.0 >= t - self.t)
-                .map(|e| e.1)
-                .sum();
-            f64::max(ends - self.starts_at_t, 0.0)
+            f64::max(self.ends_at(t, from) - self.starts_at_t, 0.0)
         };
         for i in min_idx..n {
             if self.placed[i] || self.prev_same[i].is_some_and(|p| !self.placed[p]) {

@@ -126,18 +126,21 @@ fn setting_unit_items_aside_keeps_every_answer() {
 /// refutation.
 /// (The unit items are set aside in `decide_metered` and not in `Search::run`, so the two are
 /// compared only with each other.)
+/// 5 to 9 random items of sides 1 to 5 (some unit squares) in a box about as large as their
+/// area, some boxes packing and some not.
+fn random_box_case(rng: &mut Lcg) -> (Vec<Item>, f64, f64) {
+    let items = random_items_of(rng, true, (5, 5), 5);
+    let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
+    let w = (3 + rng.below(6)) as f64;
+    let d = ((area / w).ceil() + rng.below(3) as f64).max(3.0);
+    (items, w, d)
+}
+
 #[test]
 fn threads_and_a_full_memo_change_no_answer() {
     let never = || false;
     let mut rng = Lcg(23);
-    let mut cases: Vec<(Vec<Item>, f64, f64)> = Vec::new();
-    for _ in 0..200 {
-        let items = random_items_of(&mut rng, true, (5, 5), 5);
-        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
-        let w = (3 + rng.below(6)) as f64;
-        let d = ((area / w).ceil() + rng.below(3) as f64).max(3.0);
-        cases.push((items, w, d));
-    }
+    let mut cases: Vec<(Vec<Item>, f64, f64)> = (0..200).map(|_| random_box_case(&mut rng)).collect();
     for (n, best) in [(9usize, 300usize), (10, 405), (11, 513), (13, 836)] {
         let sum: usize = (1..=n).map(|s| s * s).sum();
         for w in n..=best / n {
@@ -193,10 +196,7 @@ fn the_capacity_check_in_one_word_matches_the_general_loop() {
     let mut rng = Lcg(41);
     let mut cases: Vec<(Vec<Item>, f64, f64)> = Vec::new();
     for k in 0..160 {
-        let mut items = random_items_of(&mut rng, true, (5, 5), 5);
-        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
-        let mut w = (3 + rng.below(6)) as f64;
-        let mut d = ((area / w).ceil() + rng.below(3) as f64).max(3.0);
+        let (mut items, mut w, mut d) = random_box_case(&mut rng);
         if k % 4 == 0 {
             // Half the sizes: a grid of 0.5 over the same boxes.
             for it in &mut items {
