@@ -370,18 +370,11 @@ impl<'a> Search<'a> {
         self.stopped = false;
         let rem: f64 = self.min_area.iter().sum();
         let f = self.items[i].opts[k];
-        self.set_placed(i, true);
-        self.opt[i] = k;
-        self.x0[i] = 0.0;
-        let at = self.add_end(f[0], f[1]);
-        let sides = self.xsides;
-        self.xsides += f[0] + f[1] - self.max_sides[i];
+        let undo = self.place(i, k, 0.0);
         if self.xphase(0.0, i + 1, f[0] * f[1], rem - self.min_area[i], 0.0) {
             return Outcome::Packed(self.positions());
         }
-        self.xsides = sides;
-        self.xends.remove(at);
-        self.set_placed(i, false);
+        self.unplace(i, undo);
         if self.stopped {
             Outcome::Stopped
         } else {
@@ -412,6 +405,8 @@ impl<'a> Search<'a> {
         for i in 0..self.items.len() {
             self.set_placed(i, true);
         }
+        // No x-phase kept the sides here.
+        self.xsides = self.sides_now();
         if self.ycheck() {
             Outcome::Packed(self.positions())
         } else if self.stopped {
@@ -570,12 +565,31 @@ impl<'a> Search<'a> {
         found
     }
 
-    /// Record a placed item's right edge and depth in [`Self::xends`]; returns where, for the
-    /// undo.
-    fn add_end(&mut self, end: f64, depth: f64) -> usize {
+    /// Place item `i` in footprint `k` at left edge `t` in the x-phase, with everything kept in
+    /// step with it: `placed` and its bit sets, `xends` (sorted by right edge) and `xsides`.
+    /// Returns what [`Self::unplace`] needs: where its end went, and `xsides` before (restored,
+    /// not subtracted, so that no rounding accumulates). Always inline: left to the compiler,
+    /// the x-phase took 2 % more instructions (callgrind, 54 × 46 of squares 1…19).
+    #[inline(always)]
+    fn place(&mut self, i: usize, k: usize, t: f64) -> (usize, f64) {
+        let f = self.items[i].opts[k];
+        let end = t + f[0];
         let at = self.xends.partition_point(|e| e.0 <= end);
-        self.xends.insert(at, (end, depth));
-        at
+        self.xends.insert(at, (end, f[1]));
+        self.set_placed(i, true);
+        self.opt[i] = k;
+        self.x0[i] = t;
+        let sides = self.xsides;
+        self.xsides += f[0] + f[1] - self.max_sides[i];
+        (at, sides)
+    }
+
+    /// Undo [`Self::place`] of item `i`.
+    #[inline(always)]
+    fn unplace(&mut self, i: usize, (at, sides): (usize, f64)) {
+        self.xsides = sides;
+        self.xends.remove(at);
+        self.set_placed(i, false);
     }
 
     /// Mark item `i` placed or not, in `placed` and its bit sets.
@@ -697,24 +711,17 @@ impl<'a> Search<'a> {
                 // objects starting at `t` share the right sides of those ending there, so what
                 // the ones placed at `t` before it took is not left for it.
                 let left = free_ends.min(f[1]);
-                self.set_placed(i, true);
-                self.opt[i] = k;
-                self.x0[i] = t;
-                let at = self.add_end(t + f[0], f[1]);
+                let undo = self.place(i, k, t);
                 self.ldef += f[1] - left;
                 self.starts_at_t += f[1];
-                let sides = self.xsides;
-                self.xsides += f[0] + f[1] - self.max_sides[i];
                 let a = f[0] * f[1];
                 let found = self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste);
-                self.xsides = sides;
                 self.ldef -= f[1] - left;
                 self.starts_at_t -= f[1];
                 if found {
                     return true;
                 }
-                self.xends.remove(at);
-                self.set_placed(i, false);
+                self.unplace(i, undo);
                 if self.stopped {
                     return false;
                 }

@@ -153,8 +153,6 @@ impl Search<'_> {
                 }
             }
         }
-        // Computed afresh: `y_for` comes here without the x-phase that keeps `xsides`.
-        self.xsides = self.sides_now();
         self.ub_x = self.contact_ub();
         self.ydef = 0.0;
         self.yphase(&mut done, &mut top, 0.0, 0, 0)
