@@ -50,6 +50,20 @@ fn low_bits(n: usize) -> u64 {
 /// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units.
 type Profile = Box<[(i32, i32)]>;
 
+/// One branch of an x-phase node: an object started at the current position, `Some((item,
+/// footprint))`, or the move to the next right edge, `None`. A path of them from the root is a
+/// task of one box's search split between threads ([`Search::tasks`]).
+pub(super) type Step = Option<(usize, usize)>;
+
+/// The state of [`Search::tasks`]: the depth at which a node becomes a task (counted in nodes
+/// with more than one branch, so that a chain of forced steps does not use it up), the current
+/// node's depth, and the tasks so far.
+struct Split {
+    at: u32,
+    depth: u32,
+    tasks: Vec<Vec<Step>>,
+}
+
 /// What enumeration hands each packing to; `true` stops it.
 pub type Visitor<'a> = dyn FnMut(&[Pos]) -> bool + 'a;
 
@@ -127,6 +141,13 @@ pub struct Search<'a> {
     pub(super) dominance_cuts: u64,
     /// Complete x-assignments handed to the y-phase so far.
     pub(super) yleaves: u64,
+    /// The path from the root to the node the current task starts at, and how much of it the
+    /// x-phase has followed: at the nodes on it only the path's branch is taken
+    /// ([`Self::run_task`]). While splitting, the path to the current node.
+    path: Vec<Step>,
+    followed: usize,
+    /// Set while [`Self::tasks`] splits the search.
+    split: Option<Split>,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
     /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
     visit: Option<&'a mut Visitor<'a>>,
@@ -302,6 +323,9 @@ impl<'a> Search<'a> {
             word_sums: true,
             dominance_cuts: 0,
             yleaves: 0,
+            path: Vec::new(),
+            followed: 0,
+            split: None,
             // The state key is a 64-bit set; so large an instance is out of reach anyway.
             dead_enabled: n <= 64,
             cbound: None,
@@ -342,44 +366,52 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// The root's branches, in the order [`Self::run`] tries them: each object (the first of
-    /// its class) in each fitting footprint at x = 0. `None`: the root is refuted already.
-    pub(super) fn root_branches(&mut self) -> Option<Vec<(usize, usize)>> {
-        self.nodes += 1;
-        if refuted_by_bounds(self.items, self.w, self.d) || self.capacity_refutes(0.0, 0) {
-            return None;
+    /// The tasks [`Self::run`]'s search splits into, in the order it visits them: the paths
+    /// to the nodes `at` branching nodes below the root (or to complete x-assignments above
+    /// them), found under every cut but the memo's. Counting only nodes with more than one
+    /// branch matters: with the root's branches alone (which object starts at x = 0), one of
+    /// 22 held 46 % of the nodes of squares 1…22's packed box, and one of 247 with two levels
+    /// (the 20 × 20 with the 19 × 19 on it, a full column with a single way on).
+    pub(super) fn tasks(&mut self, at: u32) -> Vec<Vec<Step>> {
+        if refuted_by_bounds(self.items, self.w, self.d) {
+            return Vec::new();
         }
-        let mut out = Vec::new();
-        for (i, it) in self.items.iter().enumerate() {
-            if self.prev_same[i].is_some() || (Some(i) == self.anchor && self.anchor_limit(0) < 0.0) {
-                continue;
-            }
-            for (k, f) in it.opts.iter().enumerate() {
-                if f[0] <= self.w + self.t && f[1] <= self.d + self.t {
-                    out.push((i, k));
-                }
-            }
-        }
-        Some(out)
+        // A subtree cut short by the split is not dead: no memo while splitting.
+        let memo = std::mem::replace(&mut self.dead_enabled, false);
+        self.split = Some(Split {
+            at,
+            depth: 0,
+            tasks: Vec::new(),
+        });
+        let rem: f64 = self.min_area.iter().sum();
+        self.xphase(0.0, 0, 0.0, rem, 0.0);
+        self.dead_enabled = memo;
+        self.split.take().map_or_else(Vec::new, |s| s.tasks)
     }
 
-    /// One root branch of [`Self::root_branches`]: object `i` in footprint `k` at x = 0, and
-    /// the whole x-phase below it. The memo carries over between branches: a dead state is
-    /// dead whichever branch reaches it.
-    pub(super) fn run_branch(&mut self, (i, k): (usize, usize)) -> Outcome {
+    /// One task of [`Self::tasks`]: the search below the node at the end of `path`. The memo
+    /// carries over between tasks: a dead state is dead whichever task reaches it.
+    pub(super) fn run_task(&mut self, path: &[Step]) -> Outcome {
         self.stopped = false;
+        self.path.clear();
+        self.path.extend_from_slice(path);
+        self.followed = 0;
         let rem: f64 = self.min_area.iter().sum();
-        let f = self.items[i].opts[k];
-        let undo = self.place(i, k, 0.0);
-        if self.xphase(0.0, i + 1, f[0] * f[1], rem - self.min_area[i], 0.0) {
-            return Outcome::Packed(self.positions());
-        }
-        self.unplace(i, undo);
-        if self.stopped {
+        let found = self.xphase(0.0, 0, 0.0, rem, 0.0);
+        self.path.clear();
+        if found {
+            Outcome::Packed(self.positions())
+        } else if self.stopped {
             Outcome::Stopped
         } else {
             Outcome::Infeasible
         }
+    }
+
+    /// Forget the states recorded dead at a contact bound (`dead`), before a task whose bound
+    /// is lower; those dead at any bound stay.
+    pub(super) fn forget_bounded_memo(&mut self) {
+        self.dead.clear();
     }
 
     /// Where every item is now.
@@ -474,6 +506,10 @@ impl<'a> Search<'a> {
             cut
         };
         if self.xends.len() == n {
+            if let Some(split) = &mut self.split {
+                split.tasks.push(self.path.clone());
+                return false;
+            }
             return !contact_cut(self) && self.ycheck();
         }
         let tol = self.t * (self.w + self.d);
@@ -530,8 +566,10 @@ impl<'a> Search<'a> {
             return false;
         }
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
+        // A node on a task's path sees one of its branches: not dead for that.
+        let whole = self.followed == self.path.len();
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
-        if let Some(k) = key.filter(|_| !found && !self.stopped && self.yleaves == leaves_before) {
+        if let Some(k) = key.filter(|_| whole && !found && !self.stopped && self.yleaves == leaves_before) {
             if self.cpruned == cut_before {
                 // No complete x-assignment extends it, whatever the contact bound.
                 // A full memo starts afresh: the depth-first search meets again the states it
@@ -672,70 +710,172 @@ impl<'a> Search<'a> {
         (self.placed_mask, (t / self.t + 0.5) as i64, active)
     }
 
-    /// The branches of [`Self::xphase`] at `t`.
+    /// The branches of [`Self::xphase`] at `t`: each object that may start there
+    /// ([`Self::xchild`]), then the move to the next right edge ([`Self::xadvance`]).
     fn xbranch(&mut self, t: f64, min_idx: usize, placed_area: f64, rem_area: f64, waste: f64) -> bool {
+        if self.followed < self.path.len() || self.split.is_some() {
+            return self.xbranch_steered(t, min_idx, placed_area, rem_area, waste);
+        }
         let n = self.items.len();
         let from = self.open_from(t);
-        let load: f64 = self.xends[from..].iter().map(|e| e.1).sum();
-        let cap = self.d - load;
-        // The next right edge: nothing placed later starts before it.
-        let next = self.xends.get(from).map_or(f64::INFINITY, |e| e.0);
-        // Right sides ending at `t` not yet taken by the left sides of the items placed at `t`:
-        // the same for every branch here (each child restores what it places).
-        let free_ends = if t <= self.t {
-            f64::INFINITY
-        } else {
-            f64::max(self.ends_at(t, from) - self.starts_at_t, 0.0)
-        };
+        let cap = self.d - self.xends[from..].iter().map(|e| e.1).sum::<f64>();
+        let free_ends = self.free_ends(t, from);
         for i in min_idx..n {
-            if self.placed[i] || self.prev_same[i].is_some_and(|p| !self.placed[p]) {
+            let Some(k_first) = self.first_footprint(i, t) else {
                 continue;
-            }
-            if Some(i) == self.anchor && t > self.anchor_limit(0) {
-                continue;
-            }
-            // Identical items started at one position also take their footprints in order:
-            // swapping two of them leaves the packing as it was, so only one of the two
-            // labellings is needed (up to 3.5x fewer nodes on the random sets, where each kind
-            // comes five times in up to six footprints).
-            let k_first = match self.prev_same[i] {
-                Some(p) if (self.x0[p] - t).abs() <= self.t => self.opt[p],
-                _ => 0,
             };
             for k in k_first..self.items[i].opts.len() {
-                let f = self.items[i].opts[k];
-                if f[0] > self.w - t + self.t || f[1] > cap + self.t {
+                if !self.fits_at(self.items[i].opts[k], t, cap) {
                     continue;
                 }
-                // Its left side touches only objects ending at `t` (all placed) or the wall; the
-                // objects starting at `t` share the right sides of those ending there, so what
-                // the ones placed at `t` before it took is not left for it.
-                let left = free_ends.min(f[1]);
-                let undo = self.place(i, k, t);
-                self.ldef += f[1] - left;
-                self.starts_at_t += f[1];
-                let a = f[0] * f[1];
-                let found = self.xphase(t, i + 1, placed_area + a, rem_area - self.min_area[i], waste);
-                self.ldef -= f[1] - left;
-                self.starts_at_t -= f[1];
-                if found {
+                if self.xchild(t, (i, k), free_ends, placed_area, rem_area, waste) {
                     return true;
                 }
-                self.unplace(i, undo);
                 if self.stopped {
                     return false;
                 }
             }
         }
-        // Advance to the next right edge.
+        self.xadvance(t, from, cap, placed_area, rem_area, waste)
+    }
+
+    /// [`Self::xbranch`] on a task's path (its branch only) or while splitting (each branch
+    /// becomes a task at the split's depth). Out of line: the search proper never comes here.
+    #[cold]
+    #[inline(never)]
+    fn xbranch_steered(&mut self, t: f64, min_idx: usize, placed_area: f64, rem_area: f64, waste: f64) -> bool {
+        let from = self.open_from(t);
+        let cap = self.d - self.xends[from..].iter().map(|e| e.1).sum::<f64>();
+        let free_ends = self.free_ends(t, from);
+        let take = |s: &mut Self, step: Step| match step {
+            Some(c) => s.xchild(t, c, free_ends, placed_area, rem_area, waste),
+            None => s.xadvance(t, from, cap, placed_area, rem_area, waste),
+        };
+        if self.followed < self.path.len() {
+            let step = self.path[self.followed];
+            self.followed += 1;
+            let found = take(self, step);
+            self.followed -= 1;
+            return found;
+        }
+        let mut steps: Vec<Step> = Vec::new();
+        for i in min_idx..self.items.len() {
+            if let Some(k_first) = self.first_footprint(i, t) {
+                let fit = (k_first..self.items[i].opts.len()).filter(|&k| self.fits_at(self.items[i].opts[k], t, cap));
+                steps.extend(fit.map(|k| Some((i, k))));
+            }
+        }
+        if self.next_edge(from).is_some() {
+            steps.push(None);
+        }
+        let Some(split) = &mut self.split else {
+            unreachable!("steered only on a path or while splitting")
+        };
+        let branching = (steps.len() > 1) as u32;
+        split.depth += branching;
+        let here = split.depth >= split.at;
+        for step in steps {
+            self.path.push(step);
+            self.followed += 1;
+            if here {
+                let path = self.path.clone();
+                self.split.as_mut().expect("splitting").tasks.push(path);
+            } else {
+                take(self, step);
+            }
+            self.path.pop();
+            self.followed -= 1;
+        }
+        self.split.as_mut().expect("splitting").depth -= branching;
+        false
+    }
+
+    /// The next right edge (the first open object's, `from`: [`Self::open_from`]), if the x-phase
+    /// may move there: inside the box, and not past the anchor's half while the anchor waits.
+    #[inline(always)]
+    fn next_edge(&self, from: usize) -> Option<f64> {
+        let next = self.xends.get(from).map_or(f64::INFINITY, |e| e.0);
         if !next.is_finite() || next > self.w - self.t {
-            return false;
+            return None;
         }
         if let Some(a) = self.anchor {
             if !self.placed[a] && next > self.anchor_limit(0) {
-                return false;
+                return None;
             }
         }
+        Some(next)
+    }
+
+    /// Right sides ending at `t` not yet taken by the left sides of the items placed at `t`:
+    /// the same for every branch at one node (each child restores what it places).
+    fn free_ends(&self, t: f64, from: usize) -> f64 {
+        if t <= self.t {
+            f64::INFINITY
+        } else {
+            f64::max(self.ends_at(t, from) - self.starts_at_t, 0.0)
+        }
+    }
+
+    /// The first footprint item `i` may take at `t`, or `None` when it may not start there:
+    /// placed, an identical item before it not placed yet, or the anchor past its half.
+    #[inline(always)]
+    fn first_footprint(&self, i: usize, t: f64) -> Option<usize> {
+        if self.placed[i] || self.prev_same[i].is_some_and(|p| !self.placed[p]) {
+            return None;
+        }
+        if Some(i) == self.anchor && t > self.anchor_limit(0) {
+            return None;
+        }
+        // Identical items started at one position also take their footprints in order:
+        // swapping two of them leaves the packing as it was, so only one of the two labellings
+        // is needed (up to 3.5x fewer nodes on the random sets, where each kind comes five
+        // times in up to six footprints).
+        Some(match self.prev_same[i] {
+            Some(p) if (self.x0[p] - t).abs() <= self.t => self.opt[p],
+            _ => 0,
+        })
+    }
+
+    /// Whether footprint `f` fits at `t` under the open objects, which leave `cap` free.
+    #[inline(always)]
+    fn fits_at(&self, f: [f64; 2], t: f64, cap: f64) -> bool {
+        f[0] <= self.w - t + self.t && f[1] <= cap + self.t
+    }
+
+    /// One branch at `t`: item `i` in footprint `k` starts there.
+    #[inline(always)]
+    fn xchild(
+        &mut self,
+        t: f64,
+        (i, k): (usize, usize),
+        free_ends: f64,
+        placed_area: f64,
+        rem_area: f64,
+        waste: f64,
+    ) -> bool {
+        let f = self.items[i].opts[k];
+        // Its left side touches only objects ending at `t` (all placed) or the wall; the
+        // objects starting at `t` share the right sides of those ending there, so what the ones
+        // placed at `t` before it took is not left for it.
+        let left = free_ends.min(f[1]);
+        let undo = self.place(i, k, t);
+        self.ldef += f[1] - left;
+        self.starts_at_t += f[1];
+        let found = self.xphase(t, i + 1, placed_area + f[0] * f[1], rem_area - self.min_area[i], waste);
+        self.ldef -= f[1] - left;
+        self.starts_at_t -= f[1];
+        if !found {
+            self.unplace(i, undo);
+        }
+        found
+    }
+
+    /// The last branch at `t`: move to the next right edge (nothing placed later starts before
+    /// it), leaving the column's free depth `cap` unused for good.
+    fn xadvance(&mut self, t: f64, from: usize, cap: f64, placed_area: f64, rem_area: f64, waste: f64) -> bool {
+        let Some(next) = self.next_edge(from) else {
+            return false;
+        };
         let saved = (self.hprev, self.ldef_at, self.starts_at_t);
         (self.hprev, self.ldef_at, self.starts_at_t) = (cap, self.ldef, 0.0);
         let found = self.xphase(next, 0, placed_area, rem_area, waste + (next - t) * cap);

@@ -1,25 +1,82 @@
-//! One box on several threads, with the answer of one: the root's branches (which object
-//! starts at x = 0) are dealt out in order to threads that each keep a search and its memo.
+//! One box on several threads, with the answer of one: the search's first two levels (which
+//! objects start at x = 0) are dealt out in order to threads that each keep a search and its
+//! memo.
 
+use super::search::Step;
 use super::{Item, Outcome, Pos, Search};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::Relaxed};
 use std::sync::Mutex;
 
-/// What the threads of one box share besides their work: the caller's stop, seen by all, and
-/// the stop polls of all (each 1024 nodes apart: the meter's estimate while they run).
-#[derive(Default)]
+/// The depth, in nodes with more than one branch, at which the search of one box is split into
+/// tasks for the threads ([`Search::tasks`]).
+const SPLIT_AT: u32 = 3;
+
+/// What the threads of one box share besides their work: the caller's stop, seen by all, the
+/// stop polls of all (each 1024 nodes apart: the meter's estimate while they run), and who
+/// takes which task.
 struct Pool {
-    next: AtomicUsize,
+    ranges: Mutex<Ranges>,
     halted: AtomicBool,
     polls: AtomicU64,
 }
 
+/// Which tasks each thread takes: ranges of consecutive tasks, at first one per branch of the
+/// root, each owned by one thread, which takes its tasks in order (the memo a thread keeps
+/// serves the states its neighbouring tasks share: dealing the tasks out one by one cost 18 %
+/// more nodes on squares 1…18). A thread whose range is done claims the next range no one
+/// has, and when none is left takes the later half of the largest range another thread still
+/// has.
+struct Ranges {
+    unclaimed: std::vec::IntoIter<(usize, usize)>,
+    /// Per thread: the next task of its range and the range's end.
+    owned: Vec<(usize, usize)>,
+}
+
 impl Pool {
-    /// The next branch to take, if any is left and no stop came.
-    fn take(&self, branches: usize) -> Option<usize> {
-        let c = self.next.fetch_add(1, Relaxed);
-        (c < branches && !self.halted.load(Relaxed)).then_some(c)
+    /// A pool for `tasks` (each a path from the root, in the search's order) on `threads`.
+    fn new(tasks: &[Vec<Step>], threads: usize) -> Self {
+        let mut ranges: Vec<(usize, usize)> = Vec::new();
+        for (c, t) in tasks.iter().enumerate() {
+            match ranges.last_mut() {
+                Some(r) if tasks[r.0].first() == t.first() => r.1 = c + 1,
+                _ => ranges.push((c, c + 1)),
+            }
+        }
+        Pool {
+            ranges: Mutex::new(Ranges {
+                unclaimed: ranges.into_iter(),
+                owned: vec![(0, 0); threads],
+            }),
+            halted: AtomicBool::new(false),
+            polls: AtomicU64::new(0),
+        }
+    }
+
+    /// The next task for thread `me`, if any is left and no stop came.
+    fn take(&self, me: usize) -> Option<usize> {
+        if self.halted.load(Relaxed) {
+            return None;
+        }
+        let mut r = self.ranges.lock().expect("no thread panics holding it");
+        if r.owned[me].0 >= r.owned[me].1 {
+            let next = r.unclaimed.next().or_else(|| {
+                let (victim, &(a, b)) = r
+                    .owned
+                    .iter()
+                    .enumerate()
+                    .max_by_key(|(_, o)| o.1.saturating_sub(o.0))?;
+                let mid = a + (b.saturating_sub(a)) / 2;
+                (b > a).then(|| {
+                    r.owned[victim].1 = mid;
+                    (mid, b)
+                })
+            })?;
+            r.owned[me] = next;
+        }
+        let c = r.owned[me].0;
+        r.owned[me].0 += 1;
+        Some(c)
     }
 
     /// A thread's stop poll, on top of its own reasons (`more`).
@@ -36,7 +93,7 @@ impl Pool {
         threads: usize,
         stop: &dyn Fn() -> bool,
         meter: Option<&Cell<u64>>,
-        worker: &(dyn Fn(&dyn Fn() -> bool) -> u64 + Sync),
+        worker: &(dyn Fn(usize, &dyn Fn() -> bool) -> u64 + Sync),
     ) -> u64 {
         let base = meter.map_or(0, |m| m.get());
         let caller = || {
@@ -53,10 +110,10 @@ impl Pool {
         let (done, finished) = std::sync::mpsc::channel::<()>();
         std::thread::scope(|scope| {
             let others: Vec<_> = (1..threads)
-                .map(|_| {
+                .map(|me| {
                     let done = done.clone();
                     scope.spawn(move || {
-                        let nodes = worker(&never);
+                        let nodes = worker(me, &never);
                         // The receiver lives until every thread is joined.
                         let _ = done.send(());
                         nodes
@@ -64,7 +121,7 @@ impl Pool {
                 })
                 .collect();
             drop(done);
-            let mut nodes = worker(&caller);
+            let mut nodes = worker(0, &caller);
             let mut waiting = others.len();
             while waiting > 0 {
                 match finished.recv_timeout(std::time::Duration::from_millis(2)) {
@@ -104,20 +161,18 @@ pub(super) fn search(
     }
     let never = || false;
     let mut root = Search::new(items, w, d, &never);
-    let Some(branches) = root.root_branches() else {
-        return (Outcome::Infeasible, root.nodes);
-    };
-    let pool = Pool::default();
+    let branches = root.tasks(SPLIT_AT);
+    let pool = Pool::new(&branches, threads);
     // The least branch that packed: branches after it are called off.
     let packed_at = AtomicUsize::new(usize::MAX);
     let results: Mutex<Vec<Option<Outcome>>> = Mutex::new(vec![None; branches.len()]);
-    let worker = |poll: &dyn Fn() -> bool| -> u64 {
+    let worker = |me: usize, poll: &dyn Fn() -> bool| -> u64 {
         let current = Cell::new(usize::MAX);
         let own_stop = || pool.poll(poll() || packed_at.load(Relaxed) < current.get());
         let mut s = Search::new(items, w, d, &own_stop);
-        while let Some(c) = pool.take(branches.len()).filter(|&c| c < packed_at.load(Relaxed)) {
+        while let Some(c) = pool.take(me).filter(|&c| c < packed_at.load(Relaxed)) {
             current.set(c);
-            let r = s.run_branch(branches[c]);
+            let r = s.run_task(&branches[c]);
             let packed = matches!(r, Outcome::Packed(_));
             if packed {
                 packed_at.fetch_min(c, Relaxed);
@@ -151,11 +206,7 @@ pub type Scored = (f64, Vec<Pos>);
 /// beats `to_beat`), whether the enumeration finished, and the nodes visited.
 ///
 /// The same answer on any number of threads: the first packing of the highest score in the
-/// order of one thread. A branch cuts at the best score of the branches before it and its own
-/// (ties lose to them), and only strictly below the best of the branches after it (ties win
-/// against them). That bound only rises as a thread moves to later branches, which the memo of
-/// states dead at a contact bound needs; and the first best packing of the first branch holding
-/// one is never cut, since no branch before it reaches its score.
+/// order of one thread ([`Best`]).
 #[allow(clippy::too_many_arguments)] // each is one independent input of the enumeration
 pub fn best_packing(
     items: &[Item],
@@ -168,8 +219,6 @@ pub fn best_packing(
     meter: Option<&Cell<u64>>,
     threads: usize,
 ) -> (Option<Scored>, bool, u64) {
-    /// Scores closer than this are ties (contact lengths are sums of sizes).
-    const TIE: f64 = 1e-9;
     let to_beat = to_beat.max(0.0);
     if threads <= 1 || items.len() < 2 {
         let bound = Cell::new(to_beat);
@@ -184,67 +233,137 @@ pub fn best_packing(
         let (complete, nodes) = Search::enumerate(items, w, d, stop, &mut visit, Some(&bound), far, meter);
         return (best, complete, nodes);
     }
-    let never = || false;
-    let mut none = |_: &[Pos]| false;
-    let mut root = Search::enumerator(items, w, d, &never, &mut none, None, far);
-    let Some(branches) = root.root_branches() else {
-        return (None, true, root.nodes);
-    };
-    let root_nodes = root.nodes;
-    drop(root);
-    let pool = Pool::default();
-    // Per branch: the best score found in it (bits of a non-negative f64 order as the value),
-    // and its first packing of that score.
-    let scores: Vec<AtomicU64> = (0..branches.len()).map(|_| AtomicU64::new(0)).collect();
-    let found: Mutex<Vec<Option<Scored>>> = Mutex::new(vec![None; branches.len()]);
-    // Branches enumerated to the end.
-    let finished = AtomicUsize::new(0);
-    // The bound of branch `c`: ties with branches up to `c` are cut, ties with later ones not.
-    let bound_of = |c: usize| {
-        scores.iter().enumerate().fold(to_beat, |b, (k, s)| {
+    let best = Best::new(items, w, d, score, to_beat, far);
+    let pool = Pool::new(&best.tasks, threads);
+    let worker = |me: usize, poll: &dyn Fn() -> bool| best.work(&|| pool.poll(poll()), &mut || pool.take(me));
+    let nodes = pool.run(threads, stop, meter, &worker) + best.root_nodes;
+    let (found, complete) = best.result();
+    (found, complete, nodes)
+}
+
+/// Scores closer than this are ties (contact lengths are sums of sizes).
+const TIE: f64 = 1e-9;
+
+/// One enumeration of [`best_packing`] split into tasks ([`Search::tasks`]), which threads
+/// take in any order. A task cuts at the best score of the tasks before it and its own (ties
+/// lose to them), and only strictly below the best of the tasks after it (ties win against
+/// them); so the first best packing of the first task holding one is never cut, since no task
+/// before it reaches its score, and the answer is that of one thread. The memo of states dead
+/// at a contact bound needs the bound never to fall: a thread that moves to an earlier task
+/// (taken from another thread's range) starts over at that task's bound and forgets them.
+pub(super) struct Best<'a> {
+    items: &'a [Item],
+    w: f64,
+    d: f64,
+    score: &'a (dyn Fn(&[Pos]) -> Option<f64> + Sync),
+    to_beat: f64,
+    far: [bool; 2],
+    pub(super) tasks: Vec<Vec<Step>>,
+    root_nodes: u64,
+    /// Per task: the best score found in it (bits of a non-negative f64 order as the value),
+    /// and its first packing of that score.
+    scores: Vec<AtomicU64>,
+    found: Mutex<Vec<Option<Scored>>>,
+    /// Tasks enumerated to the end.
+    finished: AtomicUsize,
+}
+
+impl<'a> Best<'a> {
+    /// The enumeration of `items` in `w × d`, split into its tasks.
+    pub(super) fn new(
+        items: &'a [Item],
+        w: f64,
+        d: f64,
+        score: &'a (dyn Fn(&[Pos]) -> Option<f64> + Sync),
+        to_beat: f64,
+        far: [bool; 2],
+    ) -> Self {
+        let never = || false;
+        let mut none = |_: &[Pos]| false;
+        let mut root = Search::enumerator(items, w, d, &never, &mut none, None, far);
+        let tasks = root.tasks(SPLIT_AT);
+        Best {
+            items,
+            w,
+            d,
+            score,
+            to_beat,
+            far,
+            scores: (0..tasks.len()).map(|_| AtomicU64::new(0)).collect(),
+            found: Mutex::new(vec![None; tasks.len()]),
+            finished: AtomicUsize::new(0),
+            root_nodes: root.nodes,
+            tasks,
+        }
+    }
+
+    /// The bound of task `c`: ties with tasks up to `c` are cut, ties with later ones not.
+    fn bound_of(&self, c: usize) -> f64 {
+        self.scores.iter().enumerate().fold(self.to_beat, |b, (k, s)| {
             let v = f64::from_bits(s.load(Relaxed));
             b.max(if k <= c { v } else { v - 2.0 * TIE })
         })
-    };
-    let worker = |poll: &dyn Fn() -> bool| -> u64 {
+    }
+
+    /// One thread's work: the tasks `next` hands out, in any order, with one search and its
+    /// memo; `poll` is its stop. Returns the nodes visited.
+    pub(super) fn work(&self, poll: &dyn Fn() -> bool, next: &mut dyn FnMut() -> Option<usize>) -> u64 {
         let current = Cell::new(0usize);
-        let bound = Cell::new(to_beat);
+        let bound = Cell::new(self.to_beat);
         let own_stop = || {
-            bound.set(bound.get().max(bound_of(current.get())));
-            pool.poll(poll())
+            bound.set(bound.get().max(self.bound_of(current.get())));
+            poll()
         };
         let mut visit = |pos: &[Pos]| {
-            if let Some(c) = score(pos).filter(|&c| c > bound.get() + TIE) {
+            if let Some(c) = (self.score)(pos).filter(|&c| c > bound.get() + TIE) {
                 let k = current.get();
                 bound.set(c);
-                scores[k].fetch_max(c.to_bits(), Relaxed);
-                found.lock().expect("no thread panics holding it")[k] = Some((c, pos.to_vec()));
+                self.scores[k].fetch_max(c.to_bits(), Relaxed);
+                self.found.lock().expect("no thread panics holding it")[k] = Some((c, pos.to_vec()));
             }
             false
         };
-        let mut s = Search::enumerator(items, w, d, &own_stop, &mut visit, Some(&bound), far);
-        while let Some(c) = pool.take(branches.len()) {
+        let mut s = Search::enumerator(
+            self.items,
+            self.w,
+            self.d,
+            &own_stop,
+            &mut visit,
+            Some(&bound),
+            self.far,
+        );
+        while let Some(c) = next() {
             current.set(c);
-            bound.set(bound.get().max(bound_of(c)));
-            finished.fetch_add(
-                matches!(s.run_branch(branches[c]), Outcome::Infeasible) as usize,
+            let b = self.bound_of(c);
+            if b < bound.get() {
+                bound.set(b);
+                s.forget_bounded_memo();
+            }
+            bound.set(bound.get().max(b));
+            self.finished.fetch_add(
+                matches!(s.run_task(&self.tasks[c]), Outcome::Infeasible) as usize,
                 Relaxed,
             );
         }
         s.nodes
-    };
-    let nodes = pool.run(threads, stop, meter, &worker) + root_nodes;
-    let complete = finished.into_inner() == branches.len();
-    let mut best: Option<Scored> = None;
-    for (c, p) in found
-        .into_inner()
-        .expect("no thread panicked holding it")
-        .into_iter()
-        .flatten()
-    {
-        if best.as_ref().is_none_or(|b| c > b.0 + TIE) {
-            best = Some((c, p));
-        }
     }
-    (best, complete, nodes)
+
+    /// The best packing of all tasks (the first of the highest score in their order), and
+    /// whether every task finished.
+    pub(super) fn result(self) -> (Option<Scored>, bool) {
+        let complete = self.finished.into_inner() == self.tasks.len();
+        let mut best: Option<Scored> = None;
+        for (c, p) in self
+            .found
+            .into_inner()
+            .expect("no thread panicked holding it")
+            .into_iter()
+            .flatten()
+        {
+            if best.as_ref().is_none_or(|b| c > b.0 + TIE) {
+                best = Some((c, p));
+            }
+        }
+        (best, complete)
+    }
 }
