@@ -22,10 +22,12 @@
 //! the first object of the largest class in the left half and the lower half — mirroring a
 //! compacted packing and compacting it again moves nothing right or up).
 
-/// An x-phase state: placed set, position, (end, depth) of the placed objects still open; lengths
-/// in units of the tolerance. The open objects' lengths fit 32 bits (a length of at most `w + d`
-/// is below 10⁹ tolerances, [`tol`]), which halves what the memo keeps per state.
-type StateKey = (u64, i64, Vec<(i32, i32)>);
+/// An x-phase state: placed set (low and high halves), position (and 0), then the (end, depth)
+/// of the placed objects still open, sorted, and, enumerating under a contact bound, `i32::MIN`
+/// and the right sides ending at the position; lengths in units of the tolerance. Lengths fit
+/// 32 bits (a length of at most `w + d` is below 10⁹ tolerances, [`tol`]), which halves what the
+/// memo keeps per state; one slice, so that a key built in a buffer is looked up as it is.
+type StateKey = Box<[(i32, i32)]>;
 
 /// Most x-phase states remembered as dead at once, per memo and search thread (about 150 bytes
 /// each: some 75 MB). A full memo starts afresh. Measured on the box 71 × 47 of squares 1…21

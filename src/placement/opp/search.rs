@@ -124,10 +124,12 @@ pub struct Search<'a> {
     /// x-phase states (placed set, position, open objects, right sides ending at `t`) whose
     /// subtree the contact bound cut, with the waste and the contact bound at which it did.
     dead: HashMap<StateKey, (f64, f64), BuildHasherDefault<FxHasher>>,
+    /// Key buffers of the x-phase nodes on the current path, kept for reuse.
+    key_pool: Vec<Vec<(i32, i32)>>,
     /// The open-object profiles, per (placed set, position), of the states that failed without
     /// a contact cut: a state is dead when a recorded one with the same placed set and position
     /// had no more load anywhere ahead ([`dominated`]). Profiles kept, counted against [`DEAD_MAX`].
-    dominant: HashMap<(u64, i64), Vec<Profile>, BuildHasherDefault<FxHasher>>,
+    dominant: HashMap<(u64, i32), Vec<Profile>, BuildHasherDefault<FxHasher>>,
     dominant_len: usize,
     /// Most records kept in each memo before it starts afresh ([`DEAD_MAX`]; lower only in
     /// tests, to show that a memo starting afresh changes no answer).
@@ -316,6 +318,7 @@ impl<'a> Search<'a> {
             y0: vec![0.0; n],
             visit: None,
             dead: HashMap::default(),
+            key_pool: Vec::new(),
             dominant: HashMap::default(),
             dominant_len: 0,
             memo_cap: DEAD_MAX,
@@ -534,11 +537,17 @@ impl<'a> Search<'a> {
         // ahead: each completion of it would complete that one (halved the nodes of the hardest
         // boxes of squares 1…18, docs/algorithms.md). Only the others, dead at some contact
         // bound, go to the exact-key memo.
-        let key = (min_idx == 0 && self.dead_enabled).then(|| self.state_key(t));
-        if let Some(k) = &key {
-            // The open-object profile: the key without the contact marker (`state_key`).
-            let profile = &k.2[..k.2.len() - self.cbound.is_some() as usize];
-            let list = self.dominant.get(&(k.0, k.1));
+        // The key in a buffer kept between nodes: an allocation per node cost about 2 % of the
+        // contact enumeration's time (squares 1…18).
+        let key = (min_idx == 0 && self.dead_enabled).then(|| {
+            let mut k = self.key_pool.pop().unwrap_or_default();
+            self.state_key(t, &mut k);
+            k
+        });
+        let cut = if let Some(k) = &key {
+            // The open-object profile: the key without its head and contact marker (`state_key`).
+            let profile = &k[2..k.len() - self.cbound.is_some() as usize];
+            let list = self.dominant.get(&(self.placed_mask, k[1].0));
             let same = |a: &Profile| {
                 if self.dominance {
                     dominated(profile, a)
@@ -550,57 +559,68 @@ impl<'a> Search<'a> {
             self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| a[..] == *profile))) as u64;
             // A dead profile before the capacity check, which costs more: both are cuts at any
             // bound, so the order changes no node, only what is paid.
-            if dead || self.capacity_refutes(t, min_idx) || contact_cut(self) {
-                return false;
+            dead || self.capacity_refutes(t, min_idx) || contact_cut(self) || {
+                let record = self.dead.get(&k[..]).copied();
+                // A record that depends on the contact bound makes whatever it cuts depend on
+                // it too: count it as a contact cut, so that no ancestor is recorded as dead at
+                // any bound.
+                let hit = record.is_some_and(|(w0, u0)| w0 <= waste + tol && ub <= u0 + 1e-9);
+                self.cpruned += hit as u64;
+                hit
             }
-            if let Some(&(w0, u0)) = self.dead.get(k) {
-                if w0 <= waste + tol && ub <= u0 + 1e-9 {
-                    // A record that depends on the contact bound makes whatever it cuts depend
-                    // on it too: count it as a contact cut, so that no ancestor is recorded as
-                    // dead at any bound.
-                    self.cpruned += 1;
-                    return false;
-                }
-            }
-        } else if self.capacity_refutes(t, min_idx) || contact_cut(self) {
+        } else {
+            self.capacity_refutes(t, min_idx) || contact_cut(self)
+        };
+        if cut {
+            self.key_pool.extend(key);
             return false;
         }
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
         // A node on a task's path sees one of its branches: not dead for that.
         let whole = self.followed == self.path.len();
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
-        if let Some(k) = key.filter(|_| whole && !found && !self.stopped && self.yleaves == leaves_before) {
-            if self.cpruned == cut_before {
-                // No complete x-assignment extends it, whatever the contact bound.
-                // A full memo starts afresh: the depth-first search meets again the states it
-                // left recently, not the first ones (the hardest box of squares 1…21, 71 × 47:
-                // 83 M nodes keeping the first 2 M states, 32 M starting afresh).
-                if self.dominant_len >= self.memo_cap {
-                    self.dominant.clear();
-                    self.dominant_len = 0;
-                }
-                let profile: Profile = k.2[..k.2.len() - self.cbound.is_some() as usize].into();
-                let list = self.dominant.entry((k.0, k.1)).or_default();
-                // Records this one dominates are redundant: whatever they cut, it cuts.
-                let before = list.len();
-                if self.dominance {
-                    list.retain(|a| !dominated(a, &profile));
-                }
-                self.dominant_len = self.dominant_len + 1 + list.len() - before;
-                list.push(profile);
-            } else {
-                if self.dead.len() >= self.memo_cap {
-                    self.dead.clear();
-                }
-                let e = self.dead.entry(k).or_insert((waste, ub));
-                // Keep the record that covers more (the waste is the same for one key: the
-                // area behind `t` is placed or wasted, and the placed part ahead is in the key).
-                if waste <= e.0 + tol && ub >= e.1 {
-                    *e = (waste, ub);
-                }
+        if let Some(k) = key {
+            if whole && !found && !self.stopped && self.yleaves == leaves_before {
+                self.record_dead(&k, waste, ub, self.cpruned == cut_before);
             }
+            self.key_pool.push(k);
         }
         found
+    }
+
+    /// Record the state `key` as dead: at any bound (`any`: no contact cut below it), as a
+    /// profile, or at its contact bound `ub`.
+    fn record_dead(&mut self, key: &[(i32, i32)], waste: f64, ub: f64, any: bool) {
+        let tol = self.t * (self.w + self.d);
+        if any {
+            // No complete x-assignment extends it, whatever the contact bound.
+            // A full memo starts afresh: the depth-first search meets again the states it
+            // left recently, not the first ones (the hardest box of squares 1…21, 71 × 47:
+            // 83 M nodes keeping the first 2 M states, 32 M starting afresh).
+            if self.dominant_len >= self.memo_cap {
+                self.dominant.clear();
+                self.dominant_len = 0;
+            }
+            let profile: Profile = key[2..key.len() - self.cbound.is_some() as usize].into();
+            let list = self.dominant.entry((self.placed_mask, key[1].0)).or_default();
+            // Records this one dominates are redundant: whatever they cut, it cuts.
+            let before = list.len();
+            if self.dominance {
+                list.retain(|a| !dominated(a, &profile));
+            }
+            self.dominant_len = self.dominant_len + 1 + list.len() - before;
+            list.push(profile);
+        } else {
+            if self.dead.len() >= self.memo_cap {
+                self.dead.clear();
+            }
+            let e = self.dead.entry(key.into()).or_insert((waste, ub));
+            // Keep the record that covers more (the waste is the same for one key: the area
+            // behind `t` is placed or wasted, and the placed part ahead is in the key).
+            if waste <= e.0 + tol && ub >= e.1 {
+                *e = (waste, ub);
+            }
+        }
     }
 
     /// Place item `i` in footprint `k` at left edge `t` in the x-phase, with everything kept in
@@ -692,22 +712,23 @@ impl<'a> Search<'a> {
             .sum()
     }
 
-    /// The memo key of the x-phase state at `t`, lengths in units of the tolerance.
-    fn state_key(&self, t: f64) -> StateKey {
+    /// The memo key of the x-phase state at `t` into `key` ([`StateKey`]), lengths in units of
+    /// the tolerance.
+    fn state_key(&self, t: f64, key: &mut Vec<(i32, i32)>) {
         // Lengths here are not negative, so rounding is truncation after adding one half: `round`
         // is a call into libm on the baseline x86-64 target (3 % of the contact enumeration's
         // instructions on squares 1…18).
         let q = |v: f64| (v / self.t + 0.5) as i32;
         let from = self.open_from(t);
-        let open = &self.xends[from..];
-        let mut active = Vec::with_capacity(open.len() + 1);
-        active.extend(open.iter().map(|&(e, h)| (q(e), q(h))));
-        active.sort_unstable();
+        key.clear();
+        key.push((self.placed_mask as i32, (self.placed_mask >> 32) as i32));
+        key.push((q(t), 0));
+        key.extend(self.xends[from..].iter().map(|&(e, h)| (q(e), q(h))));
+        key[2..].sort_unstable();
         if self.cbound.is_some() {
             // Contact bounds at `t` depend on the right sides ending there.
-            active.push((i32::MIN, q(self.ends_at(t, from))));
+            key.push((i32::MIN, q(self.ends_at(t, from))));
         }
-        (self.placed_mask, (t / self.t + 0.5) as i64, active)
     }
 
     /// The branches of [`Self::xphase`] at `t`: each object that may start there
