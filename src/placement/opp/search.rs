@@ -56,10 +56,11 @@ type Profile = Box<[(i32, i32)]>;
 pub(super) type Step = Option<(usize, usize)>;
 
 /// The state of [`Search::tasks`]: the depth at which a node becomes a task (counted in nodes
-/// with more than one branch, so that a chain of forced steps does not use it up), the current
-/// node's depth, and the tasks so far.
+/// with more than one branch, so that a chain of forced steps does not use it up), the most
+/// tasks wanted, the current node's depth, and the tasks so far.
 struct Split {
     at: u32,
+    most: usize,
     depth: u32,
     tasks: Vec<Vec<Step>>,
 }
@@ -374,8 +375,10 @@ impl<'a> Search<'a> {
     /// them), found under every cut but the memo's. Counting only nodes with more than one
     /// branch matters: with the root's branches alone (which object starts at x = 0), one of
     /// 22 held 46 % of the nodes of squares 1…22's packed box, and one of 247 with two levels
-    /// (the 20 × 20 with the 19 × 19 on it, a full column with a single way on).
-    pub(super) fn tasks(&mut self, at: u32) -> Vec<Vec<Step>> {
+    /// (the 20 × 20 with the 19 × 19 on it, a full column with a single way on). Past `most`
+    /// tasks the nodes still above that depth split no further (wide instances: many objects
+    /// in many footprints would otherwise make millions).
+    pub(super) fn tasks(&mut self, at: u32, most: usize) -> Vec<Vec<Step>> {
         if refuted_by_bounds(self.items, self.w, self.d) {
             return Vec::new();
         }
@@ -383,6 +386,7 @@ impl<'a> Search<'a> {
         let memo = std::mem::replace(&mut self.dead_enabled, false);
         self.split = Some(Split {
             at,
+            most,
             depth: 0,
             tasks: Vec::new(),
         });
@@ -794,7 +798,7 @@ impl<'a> Search<'a> {
         };
         let branching = (steps.len() > 1) as u32;
         split.depth += branching;
-        let here = split.depth >= split.at;
+        let here = split.depth >= split.at || split.tasks.len() >= split.most;
         for step in steps {
             self.path.push(step);
             self.followed += 1;

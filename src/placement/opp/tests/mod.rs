@@ -187,6 +187,45 @@ fn threads_and_a_full_memo_change_no_answer() {
     assert_eq!(decide_metered(items, *w, *d, &always, None, 2).0, Outcome::Stopped);
 }
 
+/// The tasks a search splits into ([`Search::tasks`]), run in order on one search, give the
+/// plain search's answer — its very packing, or its refutation — whatever the depth of the
+/// split and however few tasks it may make (past that many, the nodes above the depth become
+/// tasks as they are), on the random boxes and squares 1…9 and 1…10 in every box up to their
+/// optimum.
+#[test]
+fn the_tasks_of_a_split_search_cover_it() {
+    let never = || false;
+    let mut rng = Lcg(29);
+    let mut cases: Vec<(Vec<Item>, f64, f64)> = (0..150).map(|_| random_box_case(&mut rng)).collect();
+    for (n, best) in [(9usize, 300usize), (10, 405)] {
+        let sum: usize = (1..=n).map(|s| s * s).sum();
+        for w in n..=best / n {
+            for d in (n..=w).filter(|&d| w * d >= sum && w * d <= best) {
+                cases.push((squares(n), w as f64, d as f64));
+            }
+        }
+    }
+    let mut split = 0;
+    for (case, (items, w, d)) in cases.iter().enumerate() {
+        let plain = Search::new(items, *w, *d, &never).run();
+        for (at, most) in [(1, usize::MAX), (3, usize::MAX), (3, 4), (6, 1)] {
+            let tasks = Search::new(items, *w, *d, &never).tasks(at, most);
+            split += (tasks.len() > 1) as u32;
+            let mut s = Search::new(items, *w, *d, &never);
+            let first = tasks
+                .iter()
+                .map(|path| s.run_task(path))
+                .find(|r| *r != Outcome::Infeasible)
+                .unwrap_or(Outcome::Infeasible);
+            assert_eq!(
+                first, plain,
+                "case {case}, depth {at}, at most {most}: {items:?} in {w} × {d}"
+            );
+        }
+    }
+    assert!(split > 400, "{split} splits into more than one task");
+}
+
 /// The capacity check's one-word path (`Search::fill_in_word`) refutes exactly what the
 /// general loop over bitset slices does: the same answers and the same nodes, in decisions and
 /// in enumerations under a contact bound, on integer sizes and on a half-unit grid.
