@@ -208,7 +208,8 @@ pub type Scored = (f64, Vec<Pos>);
 /// beats `to_beat`), whether the enumeration finished, and the nodes visited.
 ///
 /// The same answer on any number of threads: the first packing of the highest score in the
-/// order of one thread ([`Best`]).
+/// order of one thread (the split search's tasks keep its order, and ties with the tasks
+/// before a task lose, those with the tasks after it win).
 #[allow(clippy::too_many_arguments)] // each is one independent input of the enumeration
 pub fn best_packing(
     items: &[Item],

@@ -66,17 +66,12 @@ fn contact_cuts_keep_the_best_packing() {
     );
 }
 
-/// The best contact on two threads is the one thread's: the same score and the very same
-/// packing, on random instances of 4 to 7 items near their area (some boxes reaching the far
-/// walls) and on the consecutive squares 1…8 and 1…9 in their optimal boxes. A stop on two
-/// threads leaves the enumeration of squares 1…12 unfinished.
-#[test]
-fn threads_find_the_same_best_packing() {
-    let mut rng = Lcg(31);
-    let never = || false;
+/// Random instances of 4 to 7 items near their area (some boxes reaching the far walls), then
+/// squares 1…8 and 1…9 in their optimal boxes: instance, box and far walls.
+fn split_cases(rng: &mut Lcg) -> Vec<(Vec<Item>, f64, f64, [bool; 2])> {
     let mut cases: Vec<(Vec<Item>, f64, f64, [bool; 2])> = Vec::new();
     for _ in 0..150 {
-        let items = random_items_of(&mut rng, true, (4, 4), 4);
+        let items = random_items_of(rng, true, (4, 4), 4);
         let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
         let w = (3 + rng.below(5)) as f64;
         let d = (area / w).ceil() + rng.below(2) as f64;
@@ -85,6 +80,18 @@ fn threads_find_the_same_best_packing() {
     for (n, w, d) in [(8usize, 15.0, 14.0), (9, 20.0, 15.0)] {
         cases.push((squares(n), w, d, [false; 2]));
     }
+    cases
+}
+
+/// The best contact on two threads is the one thread's: the same score and the very same
+/// packing, on random instances of 4 to 7 items near their area (some boxes reaching the far
+/// walls) and on the consecutive squares 1…8 and 1…9 in their optimal boxes. A stop on two
+/// threads leaves the enumeration of squares 1…12 unfinished.
+#[test]
+fn threads_find_the_same_best_packing() {
+    let mut rng = Lcg(31);
+    let never = || false;
+    let cases = split_cases(&mut rng);
     let mut found = 0;
     for (case, (items, w, d, far)) in cases.iter().enumerate() {
         let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
@@ -116,17 +123,7 @@ fn threads_find_the_same_best_packing() {
 fn tasks_in_any_order_find_the_same_best_packing() {
     let mut rng = Lcg(37);
     let never = || false;
-    let mut cases: Vec<(Vec<Item>, f64, f64, [bool; 2])> = Vec::new();
-    for _ in 0..150 {
-        let items = random_items_of(&mut rng, true, (4, 4), 4);
-        let area: f64 = items.iter().map(|it| it.opts[0][0] * it.opts[0][1]).sum();
-        let w = (3 + rng.below(5)) as f64;
-        let d = (area / w).ceil() + rng.below(2) as f64;
-        cases.push((items, w, d, [rng.below(3) == 0, rng.below(3) == 0]));
-    }
-    for (n, w, d) in [(8usize, 15.0, 14.0), (9, 20.0, 15.0)] {
-        cases.push((squares(n), w, d, [false; 2]));
-    }
+    let cases = split_cases(&mut rng);
     let mut split = 0;
     for (case, (items, w, d, far)) in cases.iter().enumerate() {
         let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
