@@ -1,6 +1,5 @@
-//! One box on several threads, with the answer of one: the search's first two levels (which
-//! objects start at x = 0) are dealt out in order to threads that each keep a search and its
-//! memo.
+//! One box on several threads, with the answer of one: the search is split into tasks (paths
+//! from the root), which threads that each keep a search and its memo take in ranges.
 
 use super::search::Step;
 use super::{Item, Outcome, Pos, Search};

@@ -83,7 +83,7 @@ fn split_cases(rng: &mut Lcg) -> Vec<(Vec<Item>, f64, f64, [bool; 2])> {
     cases
 }
 
-/// The best contact on two threads is the one thread's: the same score and the very same
+/// The best contact on two and three threads is the one thread's: the same score and the very same
 /// packing, on random instances of 4 to 7 items near their area (some boxes reaching the far
 /// walls) and on the consecutive squares 1…8 and 1…9 in their optimal boxes. A stop on two
 /// threads leaves the enumeration of squares 1…12 unfinished.
@@ -96,10 +96,12 @@ fn threads_find_the_same_best_packing() {
     for (case, (items, w, d, far)) in cases.iter().enumerate() {
         let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
         let one = best_packing(items, *w, *d, &never, &score, 0.0, *far, None, 1);
-        let two = best_packing(items, *w, *d, &never, &score, 0.0, *far, None, 2);
         let what = format!("case {case}: {items:?} in {w} × {d}, far {far:?}");
-        assert!(one.1 && two.1, "{what}: finished");
-        assert_eq!(two.0, one.0, "{what}");
+        for threads in [2, 3] {
+            let many = best_packing(items, *w, *d, &never, &score, 0.0, *far, None, threads);
+            assert!(one.1 && many.1, "{what}: finished on {threads} threads");
+            assert_eq!(many.0, one.0, "{what}: {threads} threads");
+        }
         if let Some((_, p)) = &one.0 {
             assert!(valid(items, p, *w, *d), "{what}");
             found += 1;

@@ -119,7 +119,7 @@ fn setting_unit_items_aside_keeps_every_answer() {
 }
 
 /// The memo and the threads only change how fast an answer comes, never which: decided on two
-/// threads, and on one with memos of 4 records that start afresh again and again, random boxes
+/// and three threads, and on one with memos of 4 records that start afresh again and again, random boxes
 /// and the consecutive squares 1…N (N = 9, 10, 11, 13) in every box up to their optimum give
 /// the very packing (or refutation) of the plain search, and the small memo hands the same
 /// complete x-assignments to the y-phase. A stop on two threads is `Stopped`, never a
@@ -162,8 +162,10 @@ fn threads_and_a_full_memo_change_no_answer() {
         assert_eq!(small.yleaves, plain.yleaves, "{what}: small memo, y-phase leaves");
         restarts += (small.nodes > plain.nodes) as u32;
         let (one, one_nodes) = decide_metered(items, *w, *d, &never, None, 1);
-        let two = decide_metered(items, *w, *d, &never, None, 2).0;
-        assert_eq!(two, one, "{what}: two threads");
+        for threads in [2, 3] {
+            let many = decide_metered(items, *w, *d, &never, None, threads).0;
+            assert_eq!(many, one, "{what}: {threads} threads");
+        }
         match &r {
             Outcome::Packed(p) => {
                 assert!(valid(items, p, *w, *d), "{what}");
