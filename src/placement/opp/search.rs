@@ -38,6 +38,10 @@ impl Hasher for FxHasher {
     }
 }
 
+/// Most entries of [`Search::arena`] before the memo of profiles starts afresh: room for
+/// [`DEAD_MAX`] profiles of 16 open objects (its offsets are `u32`).
+const ARENA_MAX: usize = DEAD_MAX * 16;
+
 /// The bit set of the first `n ≤ 64` indices.
 fn low_bits(n: usize) -> u64 {
     if n >= 64 {
@@ -47,8 +51,9 @@ fn low_bits(n: usize) -> u64 {
     }
 }
 
-/// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units.
-type Profile = Box<[(i32, i32)]>;
+/// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units, as where
+/// they start in [`Search::arena`] and how many there are.
+type Profile = (u32, u32);
 
 /// One branch of an x-phase node: an object started at the current position, `Some((item,
 /// footprint))`, or the move to the next right edge, `None`. A path of them from the root is a
@@ -132,6 +137,10 @@ pub struct Search<'a> {
     /// had no more load anywhere ahead ([`dominated`]). Profiles kept, counted against [`DEAD_MAX`].
     dominant: HashMap<(u64, i32), Vec<Profile>, BuildHasherDefault<FxHasher>>,
     dominant_len: usize,
+    /// The profiles of `dominant`, one after the other: a box per profile made allocation and
+    /// freeing about a tenth of the contact enumeration's time (`perf`, squares 1…21). Those
+    /// dropped as dominated stay until the memo starts afresh.
+    arena: Vec<(i32, i32)>,
     /// Most records kept in each memo before it starts afresh ([`DEAD_MAX`]; lower only in
     /// tests, to show that a memo starting afresh changes no answer).
     pub(super) memo_cap: usize,
@@ -322,6 +331,7 @@ impl<'a> Search<'a> {
             key_pool: Vec::new(),
             dominant: HashMap::default(),
             dominant_len: 0,
+            arena: Vec::new(),
             memo_cap: DEAD_MAX,
             dominance: true,
             word_sums: true,
@@ -552,15 +562,16 @@ impl<'a> Search<'a> {
             // The open-object profile: the key without its head and contact marker (`state_key`).
             let profile = &k[2..k.len() - self.cbound.is_some() as usize];
             let list = self.dominant.get(&(self.placed_mask, k[1].0));
+            let at = |&(s, l): &Profile| &self.arena[s as usize..(s + l) as usize];
             let same = |a: &Profile| {
                 if self.dominance {
-                    dominated(profile, a)
+                    dominated(profile, at(a))
                 } else {
-                    a[..] == *profile
+                    at(a) == profile
                 }
             };
             let dead = list.is_some_and(|l| l.iter().any(same));
-            self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| a[..] == *profile))) as u64;
+            self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| at(a) == profile))) as u64;
             // A dead profile before the capacity check, which costs more: both are cuts at any
             // bound, so the order changes no node, only what is paid.
             dead || self.capacity_refutes(t, min_idx) || contact_cut(self) || {
@@ -601,19 +612,23 @@ impl<'a> Search<'a> {
             // A full memo starts afresh: the depth-first search meets again the states it
             // left recently, not the first ones (the hardest box of squares 1…21, 71 × 47:
             // 83 M nodes keeping the first 2 M states, 32 M starting afresh).
-            if self.dominant_len >= self.memo_cap {
+            let profile = &key[2..key.len() - self.cbound.is_some() as usize];
+            // The arena also starts afresh when the dropped profiles fill it (within u32).
+            if self.dominant_len >= self.memo_cap || self.arena.len() + profile.len() > ARENA_MAX {
                 self.dominant.clear();
                 self.dominant_len = 0;
+                self.arena.clear();
             }
-            let profile: Profile = key[2..key.len() - self.cbound.is_some() as usize].into();
             let list = self.dominant.entry((self.placed_mask, key[1].0)).or_default();
             // Records this one dominates are redundant: whatever they cut, it cuts.
             let before = list.len();
             if self.dominance {
-                list.retain(|a| !dominated(a, &profile));
+                let arena = &self.arena;
+                list.retain(|&(s, l)| !dominated(&arena[s as usize..(s + l) as usize], profile));
             }
             self.dominant_len = self.dominant_len + 1 + list.len() - before;
-            list.push(profile);
+            list.push((self.arena.len() as u32, profile.len() as u32));
+            self.arena.extend_from_slice(profile);
         } else {
             if self.dead.len() >= self.memo_cap {
                 self.dead.clear();
