@@ -55,6 +55,11 @@ fn low_bits(n: usize) -> u64 {
 /// they start in [`Search::arena`] and how many there are.
 type Profile = (u32, u32);
 
+/// The entries of profile `p` in `arena`.
+fn in_arena(arena: &[(i32, i32)], (start, len): Profile) -> &[(i32, i32)] {
+    &arena[start as usize..(start + len) as usize]
+}
+
 /// One branch of an x-phase node: an object started at the current position, `Some((item,
 /// footprint))`, or the move to the next right edge, `None`. A path of them from the root is a
 /// task of one box's search split between threads ([`Search::tasks`]).
@@ -562,7 +567,7 @@ impl<'a> Search<'a> {
             // The open-object profile: the key without its head and contact marker (`state_key`).
             let profile = &k[2..k.len() - self.cbound.is_some() as usize];
             let list = self.dominant.get(&(self.placed_mask, k[1].0));
-            let at = |&(s, l): &Profile| &self.arena[s as usize..(s + l) as usize];
+            let at = |&p: &Profile| in_arena(&self.arena, p);
             let same = |a: &Profile| {
                 if self.dominance {
                     dominated(profile, at(a))
@@ -624,7 +629,7 @@ impl<'a> Search<'a> {
             let before = list.len();
             if self.dominance {
                 let arena = &self.arena;
-                list.retain(|&(s, l)| !dominated(&arena[s as usize..(s + l) as usize], profile));
+                list.retain(|&p| !dominated(in_arena(arena, p), profile));
             }
             self.dominant_len = self.dominant_len + 1 + list.len() - before;
             list.push((self.arena.len() as u32, profile.len() as u32));

@@ -66,12 +66,11 @@ impl Pool {
                     .owned
                     .iter()
                     .enumerate()
-                    .max_by_key(|(_, o)| o.1.saturating_sub(o.0))?;
-                let mid = a + (b.saturating_sub(a)) / 2;
-                (b > a).then(|| {
-                    r.owned[victim].1 = mid;
-                    (mid, b)
-                })
+                    .max_by_key(|(_, o)| o.1.saturating_sub(o.0))
+                    .filter(|(_, o)| o.1 > o.0)?;
+                let mid = a + (b - a) / 2;
+                r.owned[victim].1 = mid;
+                Some((mid, b))
             })?;
             r.owned[me] = next;
         }
