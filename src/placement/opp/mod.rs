@@ -157,9 +157,10 @@ pub fn refuted_by_bounds(items: &[Item], w: f64, d: f64) -> bool {
     false
 }
 
-/// Decide the box with [`Search`], after setting aside the unit items when that is safe: items
-/// whose only fitting footprint is a `g × g` square, where `g` divides every footprint extent
-/// and the box's sides. Every packing the search finds has its edges on the `g`-lattice (left
+/// Decide the box with [`Search`]: first the instance without its three smallest items (from
+/// eight items on; a box that relaxation does not fit in is refuted), then the whole instance,
+/// with the unit items set aside when that is safe: items whose only fitting footprint is a
+/// `g × g` square, where `g` divides every footprint extent and the box's sides. Every packing the search finds has its edges on the `g`-lattice (left
 /// edges are 0 or right edges, bottoms 0 or tops, all sums of extents), so its free space is a
 /// union of `g`-cells; when the other items, at their largest footprints, leave at least the
 /// units' area free, each unit goes into a free cell, and the others packing is equivalent to all
@@ -172,6 +173,60 @@ pub fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outco
 /// caller adds the returned count when it returns), on `threads` threads (the same answer on
 /// any number: docs/algorithms.md, *Threads*).
 pub fn decide_metered(
+    items: &[Item],
+    w: f64,
+    d: f64,
+    stop: &dyn Fn() -> bool,
+    meter: Option<&std::cell::Cell<u64>>,
+    threads: usize,
+) -> (Outcome, u64) {
+    let mut nodes = 0;
+    for sub in relaxations(items, w, d) {
+        let (r, n) = decide_all(&sub, w, d, stop, meter, threads);
+        nodes += n;
+        match r {
+            // The relaxation packs: only the whole instance can say whether it does.
+            Outcome::Packed(_) => {}
+            o => return (o, nodes),
+        }
+    }
+    let (r, n) = decide_all(items, w, d, stop, meter, threads);
+    (r, nodes + n)
+}
+
+/// Most items [`relaxations`] leaves out, and the fewest items for which it does: measured on
+/// the consecutive squares and the random sets (docs/algorithms.md, *Small items left out
+/// first*).
+const RELAX_DROP: usize = 3;
+const RELAX_MIN_ITEMS: usize = 8;
+
+/// The relaxations [`decide_metered`] decides before the whole instance: the instance without
+/// its [`RELAX_DROP`] smallest items (least fitting area, ties in index order). A box the
+/// relaxation cannot be packed in holds no packing of all the items; the small items are what
+/// multiplies the x-phase's branches (each fits almost anywhere) while adding little to what
+/// the bounds can refute.
+fn relaxations(items: &[Item], w: f64, d: f64) -> Vec<Vec<Item>> {
+    if items.len() < RELAX_MIN_ITEMS || refuted_by_bounds(items, w, d) {
+        return Vec::new();
+    }
+    let area = |i: usize| {
+        fitting(&items[i], w, d)
+            .map(|g| g[0] * g[1])
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut by_area: Vec<usize> = (0..items.len()).collect();
+    by_area.sort_by(|&a, &b| area(a).total_cmp(&area(b)));
+    let drop = &by_area[..RELAX_DROP];
+    let keep: Vec<Item> = (0..items.len())
+        .filter(|i| !drop.contains(i))
+        .map(|i| items[i].clone())
+        .collect();
+    vec![keep]
+}
+
+/// [`decide_metered`] on the whole instance: the unit items set aside when that is safe, then
+/// the search.
+fn decide_all(
     items: &[Item],
     w: f64,
     d: f64,
