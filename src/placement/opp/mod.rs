@@ -181,33 +181,35 @@ pub fn decide_metered(
     threads: usize,
 ) -> (Outcome, u64) {
     let mut nodes = 0;
-    for sub in relaxations(items, w, d) {
+    if let Some(sub) = relaxation(items, w, d) {
         let (r, n) = decide_all(&sub, w, d, stop, meter, threads);
         nodes += n;
-        match r {
-            // The relaxation packs: only the whole instance can say whether it does.
-            Outcome::Packed(_) => {}
-            o => return (o, nodes),
+        // When the relaxation packs, only the whole instance can say whether it does.
+        if !matches!(r, Outcome::Packed(_)) {
+            return (r, nodes);
         }
     }
     let (r, n) = decide_all(items, w, d, stop, meter, threads);
     (r, nodes + n)
 }
 
-/// Most items [`relaxations`] leaves out, and the fewest items for which it does: measured on
-/// the consecutive squares and the random sets (docs/algorithms.md, *Small items left out
+/// How many of the smallest items [`relaxation`] leaves out: three was the fastest on squares
+/// 1…22 (two, four and five took 1.5–3.4× as long; docs/algorithms.md, *Small items left out
 /// first*).
 const RELAX_DROP: usize = 3;
+
+/// The fewest items for which [`relaxation`] leaves any out: below that every box is decided
+/// in milliseconds anyway, and the relaxation would be most of the instance's freedom.
 const RELAX_MIN_ITEMS: usize = 8;
 
-/// The relaxations [`decide_metered`] decides before the whole instance: the instance without
+/// The relaxation [`decide_metered`] decides before the whole instance: the instance without
 /// its [`RELAX_DROP`] smallest items (least fitting area, ties in index order). A box the
 /// relaxation cannot be packed in holds no packing of all the items; the small items are what
 /// multiplies the x-phase's branches (each fits almost anywhere) while adding little to what
 /// the bounds can refute.
-fn relaxations(items: &[Item], w: f64, d: f64) -> Vec<Vec<Item>> {
+fn relaxation(items: &[Item], w: f64, d: f64) -> Option<Vec<Item>> {
     if items.len() < RELAX_MIN_ITEMS || refuted_by_bounds(items, w, d) {
-        return Vec::new();
+        return None;
     }
     let area = |i: usize| {
         fitting(&items[i], w, d)
@@ -217,11 +219,8 @@ fn relaxations(items: &[Item], w: f64, d: f64) -> Vec<Vec<Item>> {
     let mut by_area: Vec<usize> = (0..items.len()).collect();
     by_area.sort_by(|&a, &b| area(a).total_cmp(&area(b)));
     let drop = &by_area[..RELAX_DROP];
-    let keep: Vec<Item> = (0..items.len())
-        .filter(|i| !drop.contains(i))
-        .map(|i| items[i].clone())
-        .collect();
-    vec![keep]
+    let keep = (0..items.len()).filter(|i| !drop.contains(i));
+    Some(keep.map(|i| items[i].clone()).collect())
 }
 
 /// [`decide_metered`] on the whole instance: the unit items set aside when that is safe, then
