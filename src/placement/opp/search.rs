@@ -8,6 +8,9 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 mod bounds;
+mod probe;
+#[cfg(test)]
+pub(super) use probe::left_out as probe_left_out;
 mod yphase;
 
 /// The memo's hasher: the multiply-and-rotate of rustc's FxHash. The keys are the search's own
@@ -54,6 +57,9 @@ fn low_bits(n: usize) -> u64 {
 /// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units, as where
 /// they start in [`Search::arena`] and how many there are.
 type Profile = (u32, u32);
+
+/// Dead profiles by (placed set, position), as [`Search`] keeps them.
+type Profiles = HashMap<(u64, i32), Vec<Profile>, BuildHasherDefault<FxHasher>>;
 
 /// The entries of profile `p` in `arena`.
 fn in_arena(arena: &[(i32, i32)], (start, len): Profile) -> &[(i32, i32)] {
@@ -140,7 +146,9 @@ pub struct Search<'a> {
     /// The open-object profiles, per (placed set, position), of the states that failed without
     /// a contact cut: a state is dead when a recorded one with the same placed set and position
     /// had no more load anywhere ahead ([`dominated`]). Profiles kept, counted against [`DEAD_MAX`].
-    dominant: HashMap<(u64, i32), Vec<Profile>, BuildHasherDefault<FxHasher>>,
+    /// Two lists: the search's, and the probes' (`search/probe.rs`), which may consult only
+    /// their own; what a probe finds dead goes into both.
+    dominant: [Profiles; 2],
     dominant_len: usize,
     /// The profiles of `dominant`, one after the other: a box per profile made allocation and
     /// freeing about a tenth of the contact enumeration's time (`perf`, squares 1…21). Those
@@ -165,6 +173,15 @@ pub struct Search<'a> {
     followed: usize,
     /// Set while [`Self::tasks`] splits the search.
     split: Option<Split>,
+    /// Probes (enumeration, [`probe`]): the items a probe leaves out (bits by item, and by rank
+    /// in `by_depth`), whether one runs, the node count at which it gives up and whether it
+    /// did, and how many states probes refuted.
+    probe_items: u64,
+    probe_rank_bits: u64,
+    probing: bool,
+    probe_until: u64,
+    probe_gave_up: bool,
+    pub(super) probe_cuts: u64,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
     /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
     visit: Option<&'a mut Visitor<'a>>,
@@ -253,6 +270,7 @@ impl<'a> Search<'a> {
         s.visit = Some(visit);
         s.cbound = bound;
         s.far = far;
+        s.set_probe(probe::left_out(items, w, d));
         s
     }
 
@@ -332,9 +350,15 @@ impl<'a> Search<'a> {
             xends: Vec::with_capacity(n),
             y0: vec![0.0; n],
             visit: None,
+            probe_items: 0,
+            probe_rank_bits: 0,
+            probing: false,
+            probe_until: 0,
+            probe_gave_up: false,
+            probe_cuts: 0,
             dead: HashMap::default(),
             key_pool: Vec::new(),
-            dominant: HashMap::default(),
+            dominant: [HashMap::default(), HashMap::default()],
             dominant_len: 0,
             arena: Vec::new(),
             memo_cap: DEAD_MAX,
@@ -472,6 +496,10 @@ impl<'a> Search<'a> {
 
     fn tick(&mut self) -> bool {
         self.nodes += 1;
+        if self.probing && self.nodes >= self.probe_until {
+            self.probe_gave_up = true;
+            self.stopped = true;
+        }
         if self.nodes & 1023 == 0 {
             if let Some((m, base)) = self.meter {
                 m.set(base + self.nodes);
@@ -521,12 +549,18 @@ impl<'a> Search<'a> {
         // is remembered only at that bound (below), so a node that capacity or a dead profile
         // also cuts is better cut by them.
         let contact_cut = |s: &mut Self| {
+            if s.probing {
+                return false;
+            }
             let cut = s
                 .cbound
                 .is_some_and(|cb| ub - s.rows_lost_ahead(t, placed_area + rem_area + waste) <= cb.get() + 1e-9);
             s.cpruned += cut as u64;
             cut
         };
+        if self.probing && self.xends.len() + (self.probe_items & !self.placed_mask).count_ones() as usize == n {
+            return true;
+        }
         if self.xends.len() == n {
             if let Some(split) = &mut self.split {
                 split.tasks.push(self.path.clone());
@@ -566,7 +600,7 @@ impl<'a> Search<'a> {
         let cut = if let Some(k) = &key {
             // The open-object profile: the key without its head and contact marker (`state_key`).
             let profile = &k[2..k.len() - self.cbound.is_some() as usize];
-            let list = self.dominant.get(&(self.placed_mask, k[1].0));
+            let list = self.dominant[self.probing as usize].get(&(self.placed_mask, k[1].0));
             let at = |&p: &Profile| in_arena(&self.arena, p);
             let same = |a: &Profile| {
                 if self.dominance {
@@ -579,15 +613,17 @@ impl<'a> Search<'a> {
             self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| at(a) == profile))) as u64;
             // A dead profile before the capacity check, which costs more: both are cuts at any
             // bound, so the order changes no node, only what is paid.
-            dead || self.capacity_refutes(t, min_idx) || contact_cut(self) || {
-                let record = self.dead.get(&k[..]).copied();
-                // A record that depends on the contact bound makes whatever it cuts depend on
-                // it too: count it as a contact cut, so that no ancestor is recorded as dead at
-                // any bound.
-                let hit = record.is_some_and(|(w0, u0)| w0 <= waste + tol && ub <= u0 + 1e-9);
-                self.cpruned += hit as u64;
-                hit
-            }
+            dead || self.capacity_refutes(t, min_idx)
+                || contact_cut(self)
+                || (!self.probing && {
+                    let record = self.dead.get(&k[..]).copied();
+                    // A record that depends on the contact bound makes whatever it cuts depend on
+                    // it too: count it as a contact cut, so that no ancestor is recorded as dead at
+                    // any bound.
+                    let hit = record.is_some_and(|(w0, u0)| w0 <= waste + tol && ub <= u0 + 1e-9);
+                    self.cpruned += hit as u64;
+                    hit
+                })
         } else {
             self.capacity_refutes(t, min_idx) || contact_cut(self)
         };
@@ -598,6 +634,14 @@ impl<'a> Search<'a> {
         let (leaves_before, cut_before) = (self.yleaves, self.cpruned);
         // A node on a task's path sees one of its branches: not dead for that.
         let whole = self.followed == self.path.len();
+        // A state the probe refutes is dead at any bound, like one that capacity cuts.
+        if let Some(k) = &key {
+            if whole && self.split.is_none() && self.probe_refutes(t, min_idx, placed_area, rem_area, waste) {
+                self.record_dead(k, waste, ub, true);
+                self.key_pool.extend(key);
+                return false;
+            }
+        }
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
         if let Some(k) = key {
             if whole && !found && !self.stopped && self.yleaves == leaves_before {
@@ -619,21 +663,24 @@ impl<'a> Search<'a> {
             // 83 M nodes keeping the first 2 M states, 32 M starting afresh).
             let profile = &key[2..key.len() - self.cbound.is_some() as usize];
             // The arena also starts afresh when the dropped profiles fill it (within u32).
-            if self.dominant_len >= self.memo_cap || self.arena.len() + profile.len() > ARENA_MAX {
-                self.dominant.clear();
+            if self.dominant_len >= self.memo_cap || self.arena.len() + 2 * profile.len() > ARENA_MAX {
+                self.dominant.iter_mut().for_each(HashMap::clear);
                 self.dominant_len = 0;
                 self.arena.clear();
             }
-            let list = self.dominant.entry((self.placed_mask, key[1].0)).or_default();
-            // Records this one dominates are redundant: whatever they cut, it cuts.
-            let before = list.len();
-            if self.dominance {
-                let arena = &self.arena;
-                list.retain(|&p| !dominated(in_arena(arena, p), profile));
+            // A probe's dead state is dead for the search too; not the other way round.
+            for m in 0..=self.probing as usize {
+                let list = self.dominant[m].entry((self.placed_mask, key[1].0)).or_default();
+                // Records this one dominates are redundant: whatever they cut, it cuts.
+                let before = list.len();
+                if self.dominance {
+                    let arena = &self.arena;
+                    list.retain(|&p| !dominated(in_arena(arena, p), profile));
+                }
+                self.dominant_len = self.dominant_len + 1 + list.len() - before;
+                list.push((self.arena.len() as u32, profile.len() as u32));
+                self.arena.extend_from_slice(profile);
             }
-            self.dominant_len = self.dominant_len + 1 + list.len() - before;
-            list.push((self.arena.len() as u32, profile.len() as u32));
-            self.arena.extend_from_slice(profile);
         } else {
             if self.dead.len() >= self.memo_cap {
                 self.dead.clear();
@@ -766,6 +813,9 @@ impl<'a> Search<'a> {
         let cap = self.d - self.xends[from..].iter().map(|e| e.1).sum::<f64>();
         let free_ends = self.free_ends(t, from);
         for i in min_idx..n {
+            if self.left_out_now(i) {
+                continue;
+            }
             let Some(k_first) = self.first_footprint(i, t) else {
                 continue;
             };
@@ -909,7 +959,7 @@ impl<'a> Search<'a> {
         let found = self.xphase(t, i + 1, placed_area + f[0] * f[1], rem_area - self.min_area[i], waste);
         self.ldef -= f[1] - left;
         self.starts_at_t -= f[1];
-        if !found {
+        if !found || self.probing {
             self.unplace(i, undo);
         }
         found

@@ -56,7 +56,11 @@ impl Search<'_> {
             }
             _ => {
                 let (mut from, mut sum) = (pieces.len(), 0.0);
-                for &i in self.by_depth.iter().filter(|&&i| !self.placed[i]) {
+                for &i in self
+                    .by_depth
+                    .iter()
+                    .filter(|&&i| !self.placed[i] && !self.left_out_now(i))
+                {
                     area += self.min_area[i];
                     let h = self.min_depth[i];
                     let avail: f64 = match &self.grid {
@@ -142,6 +146,9 @@ impl Search<'_> {
         let mut open = 0u64;
         let mut bits = *word;
         let mut left = self.left_by_depth;
+        if self.probing {
+            left &= !self.probe_rank_bits;
+        }
         while left != 0 {
             let i = self.by_depth[left.trailing_zeros() as usize];
             left &= left - 1;

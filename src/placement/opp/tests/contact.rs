@@ -147,3 +147,101 @@ fn tasks_in_any_order_find_the_same_best_packing() {
     }
     assert!(split > 100, "{split} of the cases split into tasks");
 }
+
+/// Probes (x-phase states refuted without the three smallest items, `search/probe.rs`) cut
+/// only states that no packing completes. Without a contact bound, the enumeration visits the
+/// very same packings (the first 2,000), in the same order, with probes and without them, on random instances of
+/// 8 to 10 items (sides 1 to 6) in boxes at or just above their least area; under a contact
+/// bound raised by each find, it finds the same best contact there and on the squares 1…N
+/// (N = 9 … 12) in their optimal boxes. Probes refute states in many of the cases.
+#[test]
+fn probes_cut_only_states_no_packing_completes() {
+    let mut rng = Lcg(47);
+    let never = || false;
+    let (mut compared, mut probed, mut packings) = (0, 0, 0);
+    let mut cases: Vec<(Vec<Item>, f64, f64, bool)> = Vec::new();
+    for _ in 0..240 {
+        let items = random_items_of(&mut rng, false, (8, 3), 6);
+        let area: f64 = items.iter().map(least_area).sum();
+        let w = (5 + rng.below(6)) as f64;
+        let d = (area / w).ceil() + rng.below(2) as f64;
+        cases.push((items, w, d, true));
+    }
+    for (n, w, d) in [
+        (9usize, 20.0, 15.0),
+        (10, 27.0, 15.0),
+        (11, 27.0, 19.0),
+        (12, 29.0, 23.0),
+    ] {
+        cases.push((squares(n), w, d, false));
+    }
+    for (case, (items, w, d, unbounded)) in cases.iter().enumerate() {
+        let what = format!("case {case}: {items:?} in {w} × {d}");
+        if super::super::search::probe_left_out(items, *w, *d) == 0 {
+            continue;
+        }
+        let far = [false; 2];
+        let mut cuts = 0;
+        if *unbounded {
+            let mut runs: Vec<Vec<Vec<Pos>>> = Vec::new();
+            for probes in [true, false] {
+                // The first 2,000 packings (the visitor stops the enumeration there).
+                let mut seen: Vec<Vec<Pos>> = Vec::new();
+                let mut visit = |p: &[Pos]| {
+                    seen.push(p.to_vec());
+                    seen.len() >= 2_000
+                };
+                let mut s = Search::enumerator(items, *w, *d, &never, &mut visit, None, far);
+                if !probes {
+                    s.set_probe(0);
+                }
+                s.run();
+                cuts += s.probe_cuts;
+                drop(s);
+                runs.push(seen);
+            }
+            if let Some(k) = (0..runs[0].len().max(runs[1].len())).find(|&k| runs[0].get(k) != runs[1].get(k)) {
+                let met = runs[1].get(k).and_then(|p| runs[0].iter().position(|q| q == p));
+                panic!(
+                    "{what}: packing {k} differs; without probes it is {:?}, met with them at {met:?}",
+                    runs[1].get(k)
+                );
+            }
+            packings += runs[0].len();
+        }
+        let mut best = [f64::NEG_INFINITY; 2];
+        for (k, probes) in [true, false].into_iter().enumerate() {
+            let bound = Cell::new(-1.0);
+            let mut top = f64::NEG_INFINITY;
+            let mut visit = |p: &[Pos]| {
+                if let Some(c) = contact_if_stable(items, p, (*w, *d), far) {
+                    if c > bound.get() + 1e-9 {
+                        bound.set(c);
+                        top = c;
+                    }
+                }
+                false
+            };
+            let mut s = Search::enumerator(items, *w, *d, &never, &mut visit, Some(&bound), far);
+            if !probes {
+                s.set_probe(0);
+            }
+            assert_eq!(s.run(), Outcome::Infeasible, "{what}: finished");
+            cuts += s.probe_cuts;
+            drop(s);
+            best[k] = top;
+        }
+        assert!(
+            best[0] == best[1] || (best[0].is_infinite() && best[1].is_infinite()),
+            "{what}: best contact {} with probes, {} without",
+            best[0],
+            best[1]
+        );
+        compared += 1;
+        probed += (cuts > 0) as u32;
+    }
+    assert!(
+        compared > 60 && probed > 30 && packings > 500,
+        "{compared} {probed} {packings}"
+    );
+}
