@@ -160,11 +160,12 @@ pub fn refuted_by_bounds(items: &[Item], w: f64, d: f64) -> bool {
 /// Decide the box with [`Search`]: first the instance without its three smallest items (from
 /// eight items on; a box that relaxation does not fit in is refuted), then the whole instance,
 /// with the unit items set aside when that is safe: items whose only fitting footprint is a
-/// `g × g` square, where `g` divides every footprint extent and the box's sides. Every packing the search finds has its edges on the `g`-lattice (left
-/// edges are 0 or right edges, bottoms 0 or tops, all sums of extents), so its free space is a
-/// union of `g`-cells; when the other items, at their largest footprints, leave at least the
-/// units' area free, each unit goes into a free cell, and the others packing is equivalent to all
-/// packing. Returns the outcome and the nodes visited.
+/// `g × g` square, where `g` divides every footprint extent and the box's sides. Every packing
+/// the search finds has its edges on the `g`-lattice (left edges are 0 or right edges, bottoms
+/// 0 or tops, all sums of extents), so its free space is a union of `g`-cells; when the other
+/// items, at their largest footprints, leave at least the units' area free, each unit goes into
+/// a free cell, and the others packing is equivalent to all packing. Returns the outcome and
+/// the nodes visited.
 pub fn decide(items: &[Item], w: f64, d: f64, stop: &dyn Fn() -> bool) -> (Outcome, u64) {
     decide_metered(items, w, d, stop, None, 1)
 }

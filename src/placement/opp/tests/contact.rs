@@ -150,10 +150,11 @@ fn tasks_in_any_order_find_the_same_best_packing() {
 
 /// Probes (x-phase states refuted without the three smallest items, `search/probe.rs`) cut
 /// only states that no packing completes. Without a contact bound, the enumeration visits the
-/// very same packings (the first 2,000), in the same order, with probes and without them, on random instances of
-/// 8 to 10 items (sides 1 to 6) in boxes at or just above their least area; under a contact
-/// bound raised by each find, it finds the same best contact there and on the squares 1…N
-/// (N = 9 … 12) in their optimal boxes. Probes refute states in many of the cases.
+/// very same packings (the first 2,000), in the same order, with probes and without them, on
+/// random instances of 8 to 10 items (sides 1 to 6) in boxes at or just above their least
+/// area; under a contact bound raised by each find, it finds the same best contact there and
+/// on the squares 1…N (N = 9 … 12) in their optimal boxes. Probes refute states in many of
+/// the cases.
 #[test]
 fn probes_cut_only_states_no_packing_completes() {
     let mut rng = Lcg(47);
