@@ -663,12 +663,15 @@ impl<'a> Search<'a> {
             // 83 M nodes keeping the first 2 M states, 32 M starting afresh).
             let profile = &key[2..key.len() - self.cbound.is_some() as usize];
             // The arena also starts afresh when the dropped profiles fill it (within u32).
-            if self.dominant_len >= self.memo_cap || self.arena.len() + 2 * profile.len() > ARENA_MAX {
+            if self.dominant_len >= self.memo_cap || self.arena.len() + profile.len() > ARENA_MAX {
                 self.dominant.iter_mut().for_each(HashMap::clear);
                 self.dominant_len = 0;
                 self.arena.clear();
             }
-            // A probe's dead state is dead for the search too; not the other way round.
+            let at: Profile = (self.arena.len() as u32, profile.len() as u32);
+            self.arena.extend_from_slice(profile);
+            // A probe's dead state is dead for the search too; not the other way round. Both
+            // lists point at the one copy in the arena.
             for m in 0..=self.probing as usize {
                 let list = self.dominant[m].entry((self.placed_mask, key[1].0)).or_default();
                 // Records this one dominates are redundant: whatever they cut, it cuts.
@@ -678,8 +681,7 @@ impl<'a> Search<'a> {
                     list.retain(|&p| !dominated(in_arena(arena, p), profile));
                 }
                 self.dominant_len = self.dominant_len + 1 + list.len() - before;
-                list.push((self.arena.len() as u32, profile.len() as u32));
-                self.arena.extend_from_slice(profile);
+                list.push(at);
             }
         } else {
             if self.dead.len() >= self.memo_cap {
