@@ -106,6 +106,9 @@ impl Pool {
             false
         };
         let never = || false;
+        // A stop already asked for halts every thread before its first task: otherwise a
+        // thread scheduled early could finish a small box before this one's first poll.
+        caller();
         // Each other thread says when it is done, so that waiting ends at once on small boxes.
         let (done, finished) = std::sync::mpsc::channel::<()>();
         std::thread::scope(|scope| {

@@ -237,9 +237,11 @@ fn threads_and_a_full_memo_change_no_answer() {
         packed > 40 && refuted > 40 && restarts > 10,
         "{packed} {refuted} {restarts}"
     );
-    // The hardest refutation among them (decided whole), stopped at the first poll on two
-    // threads. With the relaxation first, a refutation may come before the first poll, which
-    // is then a proof: never a refutation the search did not make.
+    // The hardest refutation among them (decided whole), with a stop asked before it starts,
+    // on two threads: no thread takes a task (before, a thread scheduled early could finish
+    // the box before the first poll, and this failed once under load). With the relaxation
+    // first, a refutation may come before the search, which is then a proof: never a
+    // refutation the search did not make.
     let (items, w, d) = &cases[hardest.1];
     assert!(hardest.0 > 5_000, "{hardest:?}");
     let always = || true;
