@@ -129,17 +129,6 @@ fn items(fps: &[Footprints]) -> (Vec<Item>, Vec<usize>) {
     (items, order)
 }
 
-/// The items with x and y swapped (footprints transposed).
-fn swapped(items: &[Item]) -> Vec<Item> {
-    items
-        .iter()
-        .map(|it| Item {
-            opts: it.opts.iter().map(|f| [f[1], f[0]]).collect(),
-            class: it.class,
-        })
-        .collect()
-}
-
 /// Decides one box `w × d` for the items: the outcome and the nodes visited. A solver failure is
 /// an error, never a refutation.
 pub type Decider<'a> = dyn Fn(&[Item], f64, f64, &dyn Fn() -> bool) -> crate::error::Result<(Outcome, u64)> + 'a;
@@ -162,18 +151,10 @@ fn decide(
     if w >= d {
         return decider(items, w, d, stop);
     }
-    let t = swapped(items);
+    let t = opp::turned(items);
     let (r, nodes) = decider(&t, d, w, stop)?;
     let r = match r {
-        Outcome::Packed(pos) => Outcome::Packed(
-            pos.into_iter()
-                .map(|p| opp::Pos {
-                    opt: p.opt,
-                    x: p.y,
-                    y: p.x,
-                })
-                .collect(),
-        ),
+        Outcome::Packed(pos) => Outcome::Packed(pos.into_iter().map(opp::Pos::transposed).collect()),
         o => o,
     };
     Ok((r, nodes))
@@ -484,17 +465,7 @@ pub fn max_contact(
     let (cw, cd) = (inst.container.width, inst.container.depth);
     let far = [w >= cw - EPS, d >= cd - EPS];
     let far = if flip { [far[1], far[0]] } else { far };
-    let unflip = |p: &opp::Pos| {
-        if flip {
-            opp::Pos {
-                opt: p.opt,
-                x: p.y,
-                y: p.x,
-            }
-        } else {
-            *p
-        }
-    };
+    let unflip = |p: &opp::Pos| if flip { p.transposed() } else { *p };
     // Only BL-stable packings count; the search cuts the others by an upper bound on contact
     // (every side in contact but the deficits known), raised by each better find.
     let score = |pos: &[opp::Pos]| {
@@ -502,7 +473,7 @@ pub fn max_contact(
         super::is_bl_stable(&targets).then(|| Placement { targets }.contact_length(inst))
     };
     let (best, complete, nodes) = if flip {
-        opp::best_packing(&swapped(&items), d, w, stop, &score, to_beat, far, meter, threads)
+        opp::best_packing(&opp::turned(&items), d, w, stop, &score, to_beat, far, meter, threads)
     } else {
         opp::best_packing(&items, w, d, stop, &score, to_beat, far, meter, threads)
     };

@@ -56,6 +56,29 @@ pub struct Pos {
     pub y: f64,
 }
 
+impl Pos {
+    /// The same position mirrored in the line `x = y` (for [`turned`] items).
+    pub fn transposed(self) -> Pos {
+        Pos {
+            opt: self.opt,
+            x: self.y,
+            y: self.x,
+        }
+    }
+}
+
+/// The items with x and y swapped: each footprint transposed, in the same order, so that a
+/// [`Pos`] of the turned items, [`Pos::transposed`], is one of the items.
+pub fn turned(items: &[Item]) -> Vec<Item> {
+    items
+        .iter()
+        .map(|it| Item {
+            opts: it.opts.iter().map(|f| [f[1], f[0]]).collect(),
+            class: it.class,
+        })
+        .collect()
+}
+
 /// Result of one decision.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outcome {

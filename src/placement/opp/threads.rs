@@ -268,25 +268,23 @@ pub(super) fn best_packing_piloted(
         return (best, complete, nodes, false);
     }
     let base = meter.map_or(0, |m| m.get());
-    let along = Best::new(items, w, d, score, to_beat, far);
-    let at = base + along.root_nodes;
-    let (pilot, pilot_y) = along.pilot(budget, stop, &|n| {
-        if let Some(m) = meter {
-            m.set(at + n);
+    // The meter during a pilot that starts `at` nodes.
+    let from = |at: u64| {
+        move |n: u64| {
+            if let Some(m) = meter {
+                m.set(at + n);
+            }
         }
-    });
+    };
+    let along = Best::new(items, w, d, score, to_beat, far);
+    let (pilot, pilot_y) = along.pilot(budget, stop, &from(base + along.root_nodes));
     let mut nodes = along.root_nodes + pilot;
     let mut turn = !along.complete() && pilot_y as f64 > Y_SHARE * pilot as f64;
     if turn {
         // Before giving up what the pilot did, the same axis gets three times as many nodes
         // again: a box it finishes within them is not worth the other axis's risk
         // (n20_k4_s0012 took 0.02 s along the longer side and 1.12 s turned).
-        let at = base + nodes;
-        let (more, more_y) = along.pilot(3 * budget, stop, &|n| {
-            if let Some(m) = meter {
-                m.set(at + n);
-            }
-        });
+        let (more, more_y) = along.pilot(3 * budget, stop, &from(base + nodes));
         nodes += more;
         turn = !along.complete() && (pilot_y + more_y) as f64 > Y_SHARE * (pilot + more) as f64;
     }
@@ -295,22 +293,8 @@ pub(super) fn best_packing_piloted(
         let (found, complete) = along.result();
         return (found, complete, nodes, false);
     }
-    let turned: Vec<Item> = items
-        .iter()
-        .map(|it| Item {
-            opts: it.opts.iter().map(|f| [f[1], f[0]]).collect(),
-            class: it.class,
-        })
-        .collect();
-    let transpose = |pos: &[Pos]| -> Vec<Pos> {
-        pos.iter()
-            .map(|p| Pos {
-                opt: p.opt,
-                x: p.y,
-                y: p.x,
-            })
-            .collect()
-    };
+    let turned = super::turned(items);
+    let transpose = |pos: &[Pos]| -> Vec<Pos> { pos.iter().map(|p| p.transposed()).collect() };
     let score_turned = |pos: &[Pos]| score(&transpose(pos));
     // What the pilot found, turned, is met again: starting just below it (ties win) cuts
     // more and leaves the first packing of the best score in this axis's order the answer.
