@@ -8,6 +8,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 mod bounds;
+mod holes;
 mod probe;
 #[cfg(test)]
 pub(super) use probe::left_out as probe_left_out;
@@ -231,6 +232,11 @@ pub struct Search<'a> {
     /// The current x-assignment's columns, between consecutive item edges (enumeration under a
     /// contact bound only): width and the items covering it.
     ycols: Vec<(f64, Vec<usize>)>,
+    /// The holes bound ([`holes`]): whether it is on (off only in tests), its state for the
+    /// current x-assignment, and how many branches it cut.
+    pub(super) holes_on: bool,
+    yholes: holes::Holes,
+    pub(super) hole_cuts: u64,
 }
 
 impl<'a> Search<'a> {
@@ -393,6 +399,9 @@ impl<'a> Search<'a> {
             ytwins: vec![Vec::new(); n],
             yfloor: Vec::new(),
             ycols: Vec::new(),
+            holes_on: true,
+            yholes: holes::Holes::default(),
+            hole_cuts: 0,
         }
     }
 

@@ -86,6 +86,11 @@ impl Grid {
         self.add_wide(bits, tmp, i);
     }
 
+    /// The grid step, as a length.
+    pub(super) fn step(&self) -> f64 {
+        self.g
+    }
+
     /// Whether the sums fit one word (every depth within 63 steps): [`Self::add_word`] and
     /// [`most_in_word`] then do the work of [`Self::add`] and [`Self::most_steps`].
     pub(super) fn one_word(&self) -> bool {

@@ -210,9 +210,9 @@ pub type Scored = (f64, Vec<Pos>);
 ///
 /// Either axis may be the x-phase's: the packings and their scores are the same up to
 /// transposition, but the cost is not (docs/algorithms.md, *Which axis the x-phase takes*).
-/// The search first runs 2¹⁶ nodes along the given axis on one thread. When more than 70 %
+/// The search first runs 2¹⁶ nodes along the given axis on one thread. When more than 60 %
 /// of them were the y-phase's, whose refutations nothing remembers, it runs three times as
-/// many again; if it has not finished by then and the y-phase's share is still above 70 %,
+/// many again; if it has not finished by then and the y-phase's share is still above 60 %,
 /// the other axis's enumeration takes over. Otherwise this one goes on where the pilot
 /// stopped.
 ///
@@ -323,8 +323,9 @@ pub(super) fn best_packing_piloted(
 const PILOT_NODES: u64 = 1 << 16;
 
 /// The share of the pilot's nodes in the y-phase above which [`best_packing`] turns to the
-/// other axis (docs/algorithms.md, *Which axis the x-phase takes*).
-const Y_SHARE: f64 = 0.7;
+/// other axis (docs/algorithms.md, *Which axis the x-phase takes*; 0.7 until the holes bound
+/// took a tenth or more off the y-heavy pilots' shares, *Holes under the y-phase's items*).
+const Y_SHARE: f64 = 0.6;
 
 /// Scores closer than this are ties (contact lengths are sums of sizes).
 const TIE: f64 = 1e-9;

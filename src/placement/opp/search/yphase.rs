@@ -153,6 +153,7 @@ impl Search<'_> {
                 }
             }
         }
+        self.prepare_holes();
         self.ub_x = self.contact_ub();
         self.ydef = 0.0;
         self.yphase(&mut done, &mut top, 0.0, 0, 0)
@@ -237,6 +238,11 @@ impl Search<'_> {
             // only if that top is at `last_y` or above and the item's floor is no higher; else
             // its bottom faces free space over the whole column.
             let mut wells = 0.0;
+            let holes = self.yholes.on();
+            // Widths of the columns where the holes bound may find a hole: if they cannot
+            // close the margin, it need not run.
+            let mut could = 0.0;
+            self.yholes.at.clear();
             for (width, cover) in &self.ycols {
                 let (mut sky, mut stack) = (0.0, 0.0);
                 for &j in cover {
@@ -253,13 +259,32 @@ impl Search<'_> {
                 // Items at `last_y` come in index order, so one before `last_idx` cannot sit there.
                 let at_last = (sky - last_y).abs() <= self.t;
                 let fits = |j: usize| !done[j] && floors[j] <= sky + self.t && !(at_last && j < last_idx);
-                if open && (sky < last_y - self.t || !cover.iter().any(|&j| fits(j))) {
+                let well = open && (sky < last_y - self.t || !cover.iter().any(|&j| fits(j)));
+                if well {
                     wells += width;
                 }
+                if holes {
+                    let room = max(sky, last_y) + stack < self.d - self.t;
+                    self.yholes.at.push((max(sky, last_y), well, room));
+                    if open && !well && room {
+                        could += width;
+                    }
+                }
             }
-            if self.ub_x - self.ydef - lost - wells <= cb.get() + 1e-9 {
+            let margin = self.ub_x - self.ydef - lost - wells - cb.get();
+            if margin <= 1e-9 {
                 self.cpruned += 1;
                 return false;
+            }
+            if holes && margin <= could + 1e-9 {
+                match self.holes_lost(done, row, last_y) {
+                    Some(h) if margin - h > 1e-9 => {}
+                    _ => {
+                        self.hole_cuts += 1;
+                        self.cpruned += 1;
+                        return false;
+                    }
+                }
             }
         }
         for i in 0..n {

@@ -265,6 +265,70 @@ fn probes_cut_only_states_no_packing_completes() {
     );
 }
 
+/// The holes bound cuts only branches that hold no packing above the bound: on random
+/// instances of 6 to 9 items (some lying on any face) near their area, some boxes reaching the
+/// far walls, the enumeration under a fixed contact bound (the best contact less 0.5 or 1.5;
+/// sizes are integers) visits the very same BL-stable packings above it with and without the
+/// bound (the first 2,000 of them), and the bound cuts in many of them.
+#[test]
+fn the_holes_bound_keeps_every_packing_above_the_bound() {
+    let mut rng = Lcg(53);
+    let never = || false;
+    let mut cases: Vec<(Vec<Item>, f64, f64, [bool; 2])> = Vec::new();
+    for case in 0..300 {
+        let items = if case % 2 == 0 {
+            random_items_of(&mut rng, false, (6, 4), 5)
+        } else {
+            random_lying_items(&mut rng, (6, 4))
+        };
+        let area: f64 = items.iter().map(least_area).sum();
+        let w = (3 + rng.below(6)) as f64;
+        let d = (area / w).ceil() + rng.below(2) as f64;
+        let far = [rng.below(3) == 0, rng.below(3) == 0];
+        cases.push((items, w, d, far));
+    }
+    let (mut compared, mut cut_in, mut packings) = (0, 0, 0);
+    for (case, (items, w, d, far)) in cases.iter().enumerate() {
+        let what = format!("case {case}: {items:?} in {w} × {d}, far walls {far:?}");
+        let Some(best) = along(items, *w, *d, *far, &|p| contact_if_stable(items, p, (*w, *d), *far)) else {
+            continue;
+        };
+        let below = [0.5, 1.5][case % 2];
+        let mut runs: Vec<Vec<Vec<Pos>>> = Vec::new();
+        let mut cuts = 0;
+        for holes in [true, false] {
+            let bound = Cell::new(best.0 - below);
+            let mut seen: Vec<Vec<Pos>> = Vec::new();
+            let mut visit = |p: &[Pos]| {
+                if contact_if_stable(items, p, (*w, *d), *far).is_some_and(|c| c > best.0 - below) {
+                    seen.push(p.to_vec());
+                }
+                seen.len() >= 2_000
+            };
+            let mut s = Search::enumerator(items, *w, *d, &never, &mut visit, Some(&bound), *far);
+            s.holes_on = holes;
+            s.run();
+            cuts += s.hole_cuts;
+            drop(s);
+            runs.push(seen);
+        }
+        assert!(
+            runs[0] == runs[1],
+            "{what}: {} packings above {} with the holes bound, {} without",
+            runs[0].len(),
+            best.0 - below,
+            runs[1].len()
+        );
+        compared += 1;
+        packings += runs[0].len();
+        cut_in += (cuts > 0) as u32;
+    }
+    assert!(
+        compared > 200 && cut_in > 100 && packings > 1000,
+        "{compared} compared, the bound cut in {cut_in}, {packings} packings"
+    );
+}
+
 /// Turning to the other axis keeps the answer: with a pilot of 1,024 nodes (so that many
 /// enumerations are decided by the pilot's share of y-phase nodes), the best score is the one
 /// of the enumeration along the given axis, the packing is valid in the given frame and has
