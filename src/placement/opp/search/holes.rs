@@ -79,7 +79,10 @@ impl Search<'_> {
         let g = h.step?;
         let n = self.items.len();
         let floors = &self.yfloor[row..row + n];
-        let steps = |v: f64| (v / g).round() as i64;
+        // Lengths here are non-negative sums of grid steps: adding a half and truncating
+        // rounds them in one instruction (`round` is a library call on baseline x86-64, 3 % of
+        // a random twenty-object contact stage in `perf`).
+        let steps = |v: f64| (v / g + 0.5) as i64;
         h.fails.clear();
         for i in (0..n).filter(|&i| !done[i]) {
             let lo = steps(floors[i].max(last_y));
