@@ -253,7 +253,8 @@ impl Search<'_> {
                     }
                 }
                 let open = stack > self.t;
-                if open && max(sky, last_y) + stack > self.d + self.t {
+                let base = max(sky, last_y);
+                if open && base + stack > self.d + self.t {
                     return false;
                 }
                 // Items at `last_y` come in index order, so one before `last_idx` cannot sit there.
@@ -264,8 +265,8 @@ impl Search<'_> {
                     wells += width;
                 }
                 if holes {
-                    let room = max(sky, last_y) + stack < self.d - self.t;
-                    self.yholes.at.push((max(sky, last_y), well, room));
+                    let room = base + stack < self.d - self.t;
+                    self.yholes.at.push((base, well, room));
                     if open && !well && room {
                         could += width;
                     }

@@ -83,6 +83,30 @@ fn split_cases(rng: &mut Lcg) -> Vec<(Vec<Item>, f64, f64, [bool; 2])> {
     cases
 }
 
+/// `count` random instances near their area, rectangles of sides 1 to 5 (`rects` items, as
+/// [`random_items_of`] counts them) and boxes lying on any face (`lying` items) in turn, in
+/// boxes 3 to 8 wide, some reaching the far walls: instance, box and far walls.
+fn near_their_area(
+    rng: &mut Lcg,
+    count: usize,
+    rects: (usize, u64),
+    lying: (usize, u64),
+) -> Vec<(Vec<Item>, f64, f64, [bool; 2])> {
+    (0..count)
+        .map(|case| {
+            let items = if case % 2 == 0 {
+                random_items_of(rng, false, rects, 5)
+            } else {
+                random_lying_items(rng, lying)
+            };
+            let area: f64 = items.iter().map(least_area).sum();
+            let w = (3 + rng.below(6)) as f64;
+            let d = (area / w).ceil() + rng.below(2) as f64;
+            (items, w, d, [rng.below(3) == 0, rng.below(3) == 0])
+        })
+        .collect()
+}
+
 /// The best contact on two and three threads is the one thread's: the same score and the very same
 /// packing, on random instances of 4 to 7 items near their area (some boxes reaching the far
 /// walls) and on the consecutive squares 1…8 and 1…9 in their optimal boxes. A stop on two
@@ -274,19 +298,7 @@ fn probes_cut_only_states_no_packing_completes() {
 fn the_holes_bound_keeps_every_packing_above_the_bound() {
     let mut rng = Lcg(53);
     let never = || false;
-    let mut cases: Vec<(Vec<Item>, f64, f64, [bool; 2])> = Vec::new();
-    for case in 0..300 {
-        let items = if case % 2 == 0 {
-            random_items_of(&mut rng, false, (6, 4), 5)
-        } else {
-            random_lying_items(&mut rng, (6, 4))
-        };
-        let area: f64 = items.iter().map(least_area).sum();
-        let w = (3 + rng.below(6)) as f64;
-        let d = (area / w).ceil() + rng.below(2) as f64;
-        let far = [rng.below(3) == 0, rng.below(3) == 0];
-        cases.push((items, w, d, far));
-    }
+    let cases = near_their_area(&mut rng, 300, (6, 4), (6, 4));
     let (mut compared, mut cut_in, mut packings) = (0, 0, 0);
     for (case, (items, w, d, far)) in cases.iter().enumerate() {
         let what = format!("case {case}: {items:?} in {w} × {d}, far walls {far:?}");
@@ -341,17 +353,7 @@ fn the_other_axis_finds_the_same_best_packing() {
     let mut rng = Lcg(53);
     let never = || false;
     let mut cases = split_cases(&mut rng);
-    for case in 0..200 {
-        let items = if case % 2 == 0 {
-            random_items_of(&mut rng, false, (5, 5), 5)
-        } else {
-            random_lying_items(&mut rng, (3, 4))
-        };
-        let area: f64 = items.iter().map(least_area).sum();
-        let w = (3 + rng.below(6)) as f64;
-        let d = (area / w).ceil() + rng.below(2) as f64;
-        cases.push((items, w, d, [rng.below(3) == 0, rng.below(3) == 0]));
-    }
+    cases.extend(near_their_area(&mut rng, 200, (5, 5), (3, 4)));
     let (mut turned, mut kept) = (0, 0);
     for (case, (items, w, d, far)) in cases.iter().enumerate() {
         let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
