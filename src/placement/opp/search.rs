@@ -10,6 +10,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 mod bounds;
 mod holes;
 mod probe;
+mod ymemo;
 #[cfg(test)]
 pub(super) use probe::left_out as probe_left_out;
 mod yphase;
@@ -237,6 +238,20 @@ pub struct Search<'a> {
     pub(super) holes_on: bool,
     yholes: holes::Holes,
     pub(super) hole_cuts: u64,
+    /// Per item, the items starting at its right edge (current x-assignment).
+    yright: Vec<Vec<usize>>,
+    /// The y-phase's memo ([`ymemo`]): whether it is on (off only in tests), the states of the
+    /// current x-assignment, key buffers for reuse, the contact the placed items have made and
+    /// whether it is kept on the current path, its lookups and how many of them cut.
+    pub(super) ymemo_on: bool,
+    ymemo: ymemo::YMemo,
+    ykey_pool: Vec<Vec<u64>>,
+    ypast: f64,
+    ypast_ok: bool,
+    ylookups: u64,
+    pub(super) ymemo_cuts: u64,
+    /// Packings the y-phase has reached (complete y-assignments).
+    yvisited: u64,
 }
 
 impl<'a> Search<'a> {
@@ -402,6 +417,15 @@ impl<'a> Search<'a> {
             holes_on: true,
             yholes: holes::Holes::default(),
             hole_cuts: 0,
+            yright: vec![Vec::new(); n],
+            ymemo_on: true,
+            ymemo: HashMap::default(),
+            ykey_pool: Vec::new(),
+            ypast: 0.0,
+            ypast_ok: false,
+            ylookups: 0,
+            ymemo_cuts: 0,
+            yvisited: 0,
         }
     }
 

@@ -117,6 +117,13 @@ impl Search<'_> {
             self.yover[k] = over;
             self.yleft[k] = left;
         }
+        self.yright.iter_mut().for_each(Vec::clear);
+        for k in 0..n {
+            for j in 0..self.yleft[k].len() {
+                let l = self.yleft[k][j];
+                self.yright[l].push(k);
+            }
+        }
         if self.visit.is_some() {
             self.ygroups.clear();
             for k in (0..n).filter(|&k| self.x0[k] > t) {
@@ -156,6 +163,11 @@ impl Search<'_> {
         self.prepare_holes();
         self.ub_x = self.contact_ub();
         self.ydef = 0.0;
+        self.ypast_ok = false;
+        // Clearing touches every bucket of what the map once held, empty or not.
+        if !self.ymemo.is_empty() {
+            self.ymemo.clear();
+        }
         self.yphase(&mut done, &mut top, 0.0, 0, 0)
     }
 
@@ -169,6 +181,7 @@ impl Search<'_> {
         let n = self.items.len();
         let xr = |s: &Self, i: usize| (s.x0[i], s.x0[i] + s.ydims[i][0]);
         if placed == n {
+            self.yvisited += 1;
             if let Some(v) = self.visit.as_mut() {
                 let pos: Vec<Pos> = (0..n)
                     .map(|i| Pos {
@@ -288,6 +301,32 @@ impl Search<'_> {
                 }
             }
         }
+        // A state met before through another order of the placed items: cut when that visit
+        // found nothing better with no less contact made (`search/ymemo.rs`).
+        let mut fresh = false;
+        let key = match self.cbound {
+            Some(cb) if self.ymemo_worth() => {
+                self.ylookups += 1;
+                // The contact made so far is summed once, where the memo is first asked on this
+                // path, and kept from there on down.
+                if !self.ypast_ok {
+                    self.ypast = self.past_contact(done, top);
+                    (self.ypast_ok, fresh) = (true, true);
+                }
+                debug_assert!(self.past_in_step(done, top));
+                let key = self.ymemo_key(done, top, last_y, last_idx);
+                if self.ymemo_dead(&key, cb.get()) {
+                    self.ykey_pool.push(key);
+                    self.ymemo_cuts += 1;
+                    self.cpruned += 1;
+                    self.ypast_ok &= !fresh;
+                    return false;
+                }
+                Some(key)
+            }
+            _ => None,
+        };
+        let visited = self.yvisited;
         for i in 0..n {
             if done[i] {
                 continue;
@@ -330,18 +369,35 @@ impl Search<'_> {
                     continue;
                 }
             }
+            let past = self.ypast;
+            if self.ypast_ok {
+                self.ypast += self.contact_made(i, y, done, top, bottom);
+            }
             done[i] = true;
             top[i] = y + self.ydims[i][1];
             self.y0[i] = y;
             self.ydef += wi - bottom;
             let found = self.yphase(done, top, y, i, placed + 1);
             self.ydef -= wi - bottom;
+            self.ypast = past;
             if found {
+                self.ypast_ok &= !fresh;
                 return true;
             }
             done[i] = false;
             if self.stopped {
+                self.ypast_ok &= !fresh;
                 return false;
+            }
+        }
+        self.ypast_ok &= !fresh;
+        // Only a subtree that reached no packing is known to hold nothing above the bound: the
+        // visitor need not raise the bound to what it was shown.
+        if let (Some(key), Some(cb)) = (key, self.cbound) {
+            if self.yvisited == visited {
+                self.ymemo_record(key, cb.get());
+            } else {
+                self.ykey_pool.push(key);
             }
         }
         false

@@ -296,48 +296,73 @@ fn probes_cut_only_states_no_packing_completes() {
 /// bound (the first 2,000 of them), and the bound cuts in many of them.
 #[test]
 fn the_holes_bound_keeps_every_packing_above_the_bound() {
-    let mut rng = Lcg(53);
-    let never = || false;
+    let cases = near_their_area(&mut Lcg(53), 300, (6, 4), (6, 4));
+    same_packings_above_the_bound(&cases, [0.5, 1.5], &|s, on| s.holes_on = on, &|s| s.hole_cuts);
+}
+
+/// The y-phase's memo cuts only states whose completions hold no packing above the bound: the
+/// same comparison as [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without
+/// the memo, on 300 instances of 6 to 9 items and 40 of 7 to 10, under bounds further below the
+/// best (2.5 or 3.5), where more y-states are met again.
+#[test]
+fn the_y_memo_keeps_every_packing_above_the_bound() {
+    let mut rng = Lcg(59);
+    let set = |s: &mut Search, on: bool| s.ymemo_on = on;
     let cases = near_their_area(&mut rng, 300, (6, 4), (6, 4));
+    same_packings_above_the_bound(&cases, [2.5, 3.5], &set, &|s| s.ymemo_cuts);
+    let cases = near_their_area(&mut rng, 40, (7, 4), (7, 4));
+    same_packings_above_the_bound(&cases, [2.5, 3.5], &set, &|s| s.ymemo_cuts);
+}
+
+/// The packings above a fixed contact bound (the best contact less `below`, in turn), visited
+/// with a cut on and off (`set`), are the same, the first 2,000 of them in the same order; the
+/// cut (counted by `cuts_of`) cut in at least half of the cases.
+fn same_packings_above_the_bound(
+    cases: &[(Vec<Item>, f64, f64, [bool; 2])],
+    below: [f64; 2],
+    set: &dyn Fn(&mut Search, bool),
+    cuts_of: &dyn Fn(&Search) -> u64,
+) {
+    let never = || false;
     let (mut compared, mut cut_in, mut packings) = (0, 0, 0);
     for (case, (items, w, d, far)) in cases.iter().enumerate() {
         let what = format!("case {case}: {items:?} in {w} × {d}, far walls {far:?}");
         let Some(best) = along(items, *w, *d, *far, &|p| contact_if_stable(items, p, (*w, *d), *far)) else {
             continue;
         };
-        let below = [0.5, 1.5][case % 2];
+        let above = best.0 - below[case % 2];
         let mut runs: Vec<Vec<Vec<Pos>>> = Vec::new();
         let mut cuts = 0;
-        for holes in [true, false] {
-            let bound = Cell::new(best.0 - below);
+        for on in [true, false] {
+            let bound = Cell::new(above);
             let mut seen: Vec<Vec<Pos>> = Vec::new();
             let mut visit = |p: &[Pos]| {
-                if contact_if_stable(items, p, (*w, *d), *far).is_some_and(|c| c > best.0 - below) {
+                if contact_if_stable(items, p, (*w, *d), *far).is_some_and(|c| c > above) {
                     seen.push(p.to_vec());
                 }
                 seen.len() >= 2_000
             };
             let mut s = Search::enumerator(items, *w, *d, &never, &mut visit, Some(&bound), *far);
-            s.holes_on = holes;
+            set(&mut s, on);
             s.run();
-            cuts += s.hole_cuts;
+            cuts += cuts_of(&s);
             drop(s);
             runs.push(seen);
         }
         assert!(
             runs[0] == runs[1],
-            "{what}: {} packings above {} with the holes bound, {} without",
+            "{what}: {} packings above {above} with the cut, {} without",
             runs[0].len(),
-            best.0 - below,
             runs[1].len()
         );
         compared += 1;
         packings += runs[0].len();
-        cut_in += (cuts > 0) as u32;
+        cut_in += (cuts > 0) as usize;
     }
+    let count = cases.len();
     assert!(
-        compared > 200 && cut_in > 100 && packings > 1000,
-        "{compared} compared, the bound cut in {cut_in}, {packings} packings"
+        compared > count * 2 / 3 && cut_in > count / 2 && packings > count * 100,
+        "{compared} compared, the cut cut in {cut_in}, {packings} packings"
     );
 }
 
