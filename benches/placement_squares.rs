@@ -222,7 +222,7 @@ fn contact_boxes(n: u32, limit: f64, threads: usize) {
         let c0 = cpu_s();
         let stop = || t0.elapsed().as_secs_f64() > limit;
         let e = (w as f64 * 0.002, d as f64 * 0.002);
-        let (p, done, nodes) = max_contact(&inst, &fps, e, 0.0, &stop, None, threads);
+        let (p, done, nodes, _) = max_contact(&inst, &fps, e, 0.0, &stop, None, threads);
         let c = p.map(|p| p.contact_length(&inst) / 0.002).unwrap_or(0.0);
         println!(
             "| {w} | {d} | {} | {c:.0} | {nodes} | {:.3} | {:.3} |",

@@ -198,3 +198,47 @@ fn place_cli_takes_the_exact_solvers_master_and_contact_budget() {
         assert!(stderr.contains(flag), "{args:?}: {stderr}");
     }
 }
+
+/// A contact stage stopped before it could finish still says how much contact it could not
+/// rule out: with no time for it (`--contact-budget 0`), the report's upper bound is at least
+/// the contact that the full run proves optimal, and the full run's bound is its contact. On
+/// instances whose area stage finds less contact than the optimum, so that the bound must come
+/// from the stopped search and not from the placement found.
+#[test]
+fn a_stopped_contact_stage_bounds_the_contact_it_did_not_prove() {
+    let squares = |n| Instance::parse(&consecutive_squares_toml(n, None), false, "<squares>", None).unwrap();
+    let files = [
+        "instances/random/n12/n12_k4_s0001.toml",
+        "instances/random/n12/n12_k4_s0003.toml",
+    ];
+    let mut cases: Vec<(String, Instance)> = (9..=11).map(|n| (format!("squares 1…{n}"), squares(n))).collect();
+    cases.extend(files.iter().map(|f| (f.to_string(), Instance::load(f).unwrap())));
+    let mut below = 0;
+    for (what, inst) in &cases {
+        let (full, rep) = milp::solve_report(inst, &no_warm(), &settings(), &TimeLimit::new(120.0)).unwrap();
+        let optimum = full.placement.contact_length(inst);
+        assert!(rep.area_optimal && rep.contact_optimal, "{what}");
+        assert_eq!(
+            rep.contact_upper_bound,
+            Some(optimum),
+            "{what}: the proven optimum is its own bound"
+        );
+        let none = milp::MilpSettings {
+            contact_budget: milp::ContactBudget::Seconds(0.0),
+            ..settings()
+        };
+        let (stopped, rep) = milp::solve_report(inst, &no_warm(), &none, &TimeLimit::new(120.0)).unwrap();
+        assert!(stopped.placement.violations(inst).is_empty(), "{what}");
+        assert!(rep.area_optimal && !rep.contact_optimal, "{what}: {rep:?}");
+        let found = stopped.placement.contact_length(inst);
+        let bound = rep
+            .contact_upper_bound
+            .unwrap_or_else(|| panic!("{what}: no contact bound"));
+        assert!(
+            bound >= optimum - 1e-9 && bound >= found,
+            "{what}: bound {bound}, found {found}, optimum {optimum}"
+        );
+        below += (found < optimum - 1e-9) as usize;
+    }
+    assert!(below >= 2, "only {below} instances stopped below the optimum");
+}

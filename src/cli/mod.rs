@@ -726,14 +726,21 @@ fn cmd_place(
         }
         println!("{}", serde_json::to_string_pretty(&v).expect("serialisable"));
     } else {
+        let contact = r.placement.contact_length(&inst);
+        // A contact stage stopped early says how much contact it could not rule out.
+        let contact_bound = match report.as_ref().and_then(|rep| rep.contact_upper_bound) {
+            Some(b) if b > contact + 1e-9 => format!(" (at most {b:.4} m)"),
+            _ => String::new(),
+        };
         println!(
-            "placement ({}, {:?}): occupied area {:.6} m², lower bound {:.6} m² (gap {:.2} %), contact length {:.4} m, {} nodes, {} MILPs, {:.3} s",
+            "placement ({}, {:?}): occupied area {:.6} m², lower bound {:.6} m² (gap {:.2} %), contact length {:.4} m{}, {} nodes, {} MILPs, {:.3} s",
             r.solver,
             r.status,
             r.placement.occupied_area(),
             r.lower_bound,
             100.0 * r.gap(),
-            r.placement.contact_length(&inst),
+            contact,
+            contact_bound,
             r.nodes,
             r.subproblems,
             r.time_s

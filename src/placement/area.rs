@@ -449,8 +449,9 @@ pub fn solve(
 /// `w × d` (the search meets every one of them, see [`opp`]), if more than `to_beat`, on
 /// `threads` threads (the same answer on any number: [`opp::best_packing`]). Returns the best
 /// placement found (`None`: none beats `to_beat`), whether the enumeration finished (then
-/// nothing in the box beats the result), and the nodes visited. `meter`: a node count kept up
-/// to date for progress events.
+/// nothing in the box beats the result), the nodes visited, and an upper bound on the contact
+/// of the placements it did not rule out (`-∞` when it finished). `meter`: a node count kept
+/// up to date for progress events.
 pub fn max_contact(
     inst: &Instance,
     fps: &[Footprints],
@@ -459,7 +460,7 @@ pub fn max_contact(
     stop: &dyn Fn() -> bool,
     meter: Option<&std::cell::Cell<u64>>,
     threads: usize,
-) -> (Option<Placement>, bool, u64) {
+) -> (Option<Placement>, bool, u64, f64) {
     let (items, order) = items(fps);
     let flip = w < d;
     let (cw, cd) = (inst.container.width, inst.container.depth);
@@ -472,7 +473,7 @@ pub fn max_contact(
         let targets = targets_of(fps, &order, pos.iter().map(unflip));
         super::is_bl_stable(&targets).then(|| Placement { targets }.contact_length(inst))
     };
-    let (best, complete, nodes) = if flip {
+    let (best, complete, nodes, open) = if flip {
         opp::best_packing(&opp::turned(&items), d, w, stop, &score, to_beat, far, meter, threads)
     } else {
         opp::best_packing(&items, w, d, stop, &score, to_beat, far, meter, threads)
@@ -480,5 +481,5 @@ pub fn max_contact(
     let best = best.map(|(_, pos)| Placement {
         targets: targets_of(fps, &order, pos.iter().map(unflip)),
     });
-    (best, complete, nodes)
+    (best, complete, nodes, open)
 }

@@ -75,6 +75,11 @@ pub struct MilpReport {
     pub area_optimal: bool,
     /// The contact length is proven maximal among area-optimal placements.
     pub contact_optimal: bool,
+    /// An upper bound on the contact length (m) of every BL-stable placement of the optimal
+    /// area: the contact found when the contact stage proved it, else what the searches
+    /// stopped early can still promise (the bounds of the parts they did not finish). `None` when the area is not
+    /// proven minimal, when boxes of that area were left undecided, or without a contact stage.
+    pub contact_upper_bound: Option<f64>,
 }
 
 /// [`solve`], with the bound-over-time trace and the cost of each stage.
@@ -197,6 +202,10 @@ pub fn solve_listen(
         }
         let mut all_optimal = area_optimal && ties_closed;
         let mut best_contact = best.contact_length(inst);
+        // The most contact the extents' unfinished searches can still hold.
+        let mut open = f64::NEG_INFINITY;
+        // An extent that gets no search at all still has its bound from the split alone.
+        let bound_only = |e: (f64, f64)| area::max_contact(inst, &fps, e, f64::INFINITY, &|| true, None, 1).3;
         // The high walls earn contact only where the extent reaches them; with those matched,
         // the contact stage of `(d, w)` is the transpose of that of `(w, d)`.
         let (cw, cd) = (inst.container.width, inst.container.depth);
@@ -206,7 +215,8 @@ pub fn solve_listen(
         for e in extents {
             if left(settings) <= 0.0 {
                 all_optimal = false;
-                break;
+                open = open.max(bound_only(e));
+                continue;
             }
             // A transposed extent already solved has the same optimum, reached by the transposed
             // placement; that ties with a contact already taken into `best_contact`, and only a
@@ -244,7 +254,7 @@ pub fn solve_listen(
             };
             let t_enum = Instant::now();
             let meter = Some(&progress.nodes);
-            let (enum_best, complete, n_enum) =
+            let (enum_best, complete, n_enum, enum_open) =
                 area::max_contact(inst, &fps, e, best_contact, &halt_enum, meter, settings.threads);
             report.contact_enumeration_s += t_enum.elapsed().as_secs_f64();
             report.contact_proofs_by_enumeration += complete as u64;
@@ -263,6 +273,7 @@ pub fn solve_listen(
             }
             if contact_left() <= 0.0 {
                 all_optimal = false;
+                open = open.max(enum_open);
                 continue;
             }
             let warm_p = enum_best.as_ref().or(warm_p);
@@ -290,6 +301,9 @@ pub fn solve_listen(
                     progress.reach_nodes(nodes);
                     report.contact_proofs_by_milp += opt as u64;
                     all_optimal &= opt;
+                    if !opt {
+                        open = open.max(enum_open);
+                    }
                     done.push((e, opt));
                     let c = p.contact_length(inst);
                     if c > best_contact + 1e-9 && p.occupied_area() <= best_area + 1e-12 {
@@ -297,10 +311,20 @@ pub fn solve_listen(
                         best_contact = c;
                     }
                 }
-                None => all_optimal = false,
+                None => {
+                    all_optimal = false;
+                    open = open.max(enum_open);
+                }
             }
         }
         contact_optimal = all_optimal;
+        if area_optimal && ties_closed {
+            report.contact_upper_bound = Some(if contact_optimal {
+                best_contact
+            } else {
+                best_contact.max(open)
+            });
+        }
     }
     debug_assert!(is_bl_stable(&best.targets));
     report.contact_stage_s = start.elapsed().as_secs_f64() - area_stage_s;

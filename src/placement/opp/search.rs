@@ -76,12 +76,14 @@ pub(super) type Step = Option<(usize, usize)>;
 
 /// The state of [`Search::tasks`]: the depth at which a node becomes a task (counted in nodes
 /// with more than one branch, so that a chain of forced steps does not use it up), the most
-/// tasks wanted, the current node's depth, and the tasks so far.
+/// tasks wanted, the current node's depth, the tasks so far, and per task an upper bound on
+/// the contact of the packings below it (of its node's parent, for all but the leaves).
 struct Split {
     at: u32,
     most: usize,
     depth: u32,
     tasks: Vec<Vec<Step>>,
+    bounds: Vec<f64>,
 }
 
 /// What enumeration hands each packing to; `true` stops it.
@@ -463,8 +465,14 @@ impl<'a> Search<'a> {
     /// tasks the nodes still above that depth split no further (wide instances: many objects
     /// in many footprints would otherwise make millions).
     pub(super) fn tasks(&mut self, at: u32, most: usize) -> Vec<Vec<Step>> {
+        self.tasks_bounded(at, most).0
+    }
+
+    /// [`Self::tasks`], and per task an upper bound on the contact of the packings below it
+    /// (enumeration: what a search stopped before finishing the task can still promise).
+    pub(super) fn tasks_bounded(&mut self, at: u32, most: usize) -> (Vec<Vec<Step>>, Vec<f64>) {
         if refuted_by_bounds(self.items, self.w, self.d) {
-            return Vec::new();
+            return (Vec::new(), Vec::new());
         }
         // A subtree cut short by the split is not dead: no memo while splitting.
         let memo = std::mem::replace(&mut self.dead_enabled, false);
@@ -473,11 +481,12 @@ impl<'a> Search<'a> {
             most,
             depth: 0,
             tasks: Vec::new(),
+            bounds: Vec::new(),
         });
         let rem: f64 = self.min_area.iter().sum();
         self.xphase(0.0, 0, 0.0, rem, 0.0);
         self.dead_enabled = memo;
-        self.split.take().map_or_else(Vec::new, |s| s.tasks)
+        self.split.take().map_or_else(Default::default, |s| (s.tasks, s.bounds))
     }
 
     /// One task of [`Self::tasks`]: the search below the node at the end of `path`. The memo
@@ -613,8 +622,12 @@ impl<'a> Search<'a> {
             return true;
         }
         if self.xends.len() == n {
-            if let Some(split) = &mut self.split {
-                split.tasks.push(self.path.clone());
+            if let Some(ub) = self.split.is_some().then(|| self.contact_ub()) {
+                let path = self.path.clone();
+                if let Some(split) = &mut self.split {
+                    split.tasks.push(path);
+                    split.bounds.push(ub);
+                }
                 return false;
             }
             return !contact_cut(self) && self.ycheck();
@@ -916,6 +929,7 @@ impl<'a> Search<'a> {
         if self.next_edge(from).is_some() {
             steps.push(None);
         }
+        let ub = self.node_contact_bound(t, placed_area + rem_area + waste);
         let Some(split) = &mut self.split else {
             unreachable!("steered only on a path or while splitting")
         };
@@ -927,7 +941,9 @@ impl<'a> Search<'a> {
             self.followed += 1;
             if here {
                 let path = self.path.clone();
-                self.split.as_mut().expect("splitting").tasks.push(path);
+                let split = self.split.as_mut().expect("splitting");
+                split.tasks.push(path);
+                split.bounds.push(ub);
             } else {
                 take(self, step);
             }

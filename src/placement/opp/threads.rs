@@ -206,7 +206,10 @@ pub type Scored = (f64, Vec<Pos>);
 /// `score` is `None` for packings that do not count. The search cuts branches whose contact
 /// length bound (far walls where `far` says) does not beat the best score so far, so `score`
 /// must be at most the contact length. Returns the best score and packing (`None`: nothing
-/// beats `to_beat`), whether the enumeration finished, and the nodes visited.
+/// beats `to_beat`), whether the enumeration finished, the nodes visited, and an upper bound on
+/// the score of the packings the enumeration did not rule out (`-∞` when it finished: with the
+/// best found and `to_beat`, it bounds every packing's score, which is what a stopped search
+/// can still promise).
 ///
 /// Either axis may be the x-phase's: the packings and their scores are the same up to
 /// transposition, but the cost is not (docs/algorithms.md, *Which axis the x-phase takes*).
@@ -232,14 +235,14 @@ pub fn best_packing(
     far: [bool; 2],
     meter: Option<&Cell<u64>>,
     threads: usize,
-) -> (Option<Scored>, bool, u64) {
-    let (found, complete, nodes, _) =
+) -> (Option<Scored>, bool, u64, f64) {
+    let (found, complete, nodes, _, open) =
         best_packing_piloted(items, w, d, stop, score, to_beat, far, meter, threads, PILOT_NODES);
-    (found, complete, nodes)
+    (found, complete, nodes, open)
 }
 
 /// [`best_packing`] with a pilot of `budget` nodes; also says whether it turned to the other
-/// axis.
+/// axis (before the open bound).
 #[allow(clippy::too_many_arguments)] // best_packing's, and the pilot's budget
 pub(super) fn best_packing_piloted(
     items: &[Item],
@@ -252,7 +255,7 @@ pub(super) fn best_packing_piloted(
     meter: Option<&Cell<u64>>,
     threads: usize,
     budget: u64,
-) -> (Option<Scored>, bool, u64, bool) {
+) -> (Option<Scored>, bool, u64, bool, f64) {
     let to_beat = to_beat.max(0.0);
     if items.len() < 2 {
         let bound = Cell::new(to_beat);
@@ -265,7 +268,9 @@ pub(super) fn best_packing_piloted(
             false
         };
         let (complete, nodes) = Search::enumerate(items, w, d, stop, &mut visit, Some(&bound), far, meter);
-        return (best, complete, nodes, false);
+        // One item: stopped only by a stop asked before it started; no bound then.
+        let open = if complete { f64::NEG_INFINITY } else { f64::INFINITY };
+        return (best, complete, nodes, false, open);
     }
     let base = meter.map_or(0, |m| m.get());
     // The meter during a pilot that starts `at` nodes.
@@ -291,7 +296,7 @@ pub(super) fn best_packing_piloted(
     if !turn {
         nodes += along.finish(threads, stop, meter);
         let (found, complete) = along.result();
-        return (found, complete, nodes, false);
+        return (found, complete, nodes, false, along.open_bound());
     }
     let turned = super::turned(items);
     let transpose = |pos: &[Pos]| -> Vec<Pos> { pos.iter().map(|p| p.transposed()).collect() };
@@ -313,7 +318,7 @@ pub(super) fn best_packing_piloted(
         (None, p) if !complete => p,
         (f, _) => f,
     };
-    (found, complete, nodes, true)
+    (found, complete, nodes, true, across.open_bound())
 }
 
 /// Nodes of the pilot along the given axis ([`best_packing`]), on one thread. Over the
@@ -345,6 +350,8 @@ pub(super) struct Best<'a> {
     to_beat: f64,
     far: [bool; 2],
     pub(super) tasks: Vec<Vec<Step>>,
+    /// Per task: an upper bound on the score of the packings below it ([`Search::tasks_bounded`]).
+    bounds: Vec<f64>,
     /// Per task: whether it was enumerated to the end.
     done: Vec<AtomicBool>,
     root_nodes: u64,
@@ -367,8 +374,9 @@ impl<'a> Best<'a> {
         let never = || false;
         let mut none = |_: &[Pos]| false;
         let mut root = Search::enumerator(items, w, d, &never, &mut none, None, far);
-        let tasks = root.tasks(SPLIT_AT, SPLIT_MOST);
+        let (tasks, bounds) = root.tasks_bounded(SPLIT_AT, SPLIT_MOST);
         Best {
+            bounds,
             items,
             w,
             d,
@@ -473,6 +481,14 @@ impl<'a> Best<'a> {
             self.work(&|| pool.poll(poll()), &mut next, None).0
         };
         pool.run(threads, stop, meter, &worker)
+    }
+
+    /// An upper bound on the score of the packings in the tasks not enumerated to the end
+    /// (`-∞` when none is left): with the best found, one on every packing's.
+    fn open_bound(&self) -> f64 {
+        (self.bounds.iter().zip(&self.done))
+            .filter(|(_, d)| !d.load(Relaxed))
+            .fold(f64::NEG_INFINITY, |b, (&u, _)| b.max(u))
     }
 
     /// Whether every task was enumerated to the end.

@@ -229,4 +229,12 @@ impl Search<'_> {
         };
         (self.hprev - to_wall - (self.ldef - self.ldef_at)).max(0.0)
     }
+
+    /// An upper bound on the contact of every BL-stable packing below this x-node (at `t`,
+    /// with `used` the area placed, still to place at the least and wasted): the node's bound
+    /// less the rows lost ahead and the sides the free area cannot buy, as the contact cut
+    /// takes it.
+    pub(super) fn node_contact_bound(&self, t: f64, used: f64) -> f64 {
+        self.contact_ub() - self.rows_lost_ahead(t, used) - self.sides_unreachable(self.w * self.d - used)
+    }
 }

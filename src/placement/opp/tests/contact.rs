@@ -401,7 +401,7 @@ fn the_other_axis_finds_the_same_best_packing() {
         let what = format!("case {case}: {items:?} in {w} × {d}, far {far:?}");
         let mut first = None;
         for threads in 1..=3 {
-            let (found, complete, _, turn) =
+            let (found, complete, _, turn, _) =
                 best_packing_piloted(items, *w, *d, &never, &score, 0.0, *far, None, threads, 1024);
             assert!(complete, "{what}");
             assert_eq!(
