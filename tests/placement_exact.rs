@@ -242,3 +242,21 @@ fn a_stopped_contact_stage_bounds_the_contact_it_did_not_prove() {
     }
     assert!(below >= 2, "only {below} instances stopped below the optimum");
 }
+
+/// A stop asked in the contact stage ends it with the best placement so far and its bound:
+/// HiGHS, which would not hear the stop, does not get the rest of the time limit. n20_k4_s0011
+/// proves its area at once and takes about a second (one thread) to prove its contact, so a
+/// stop at 0.3 s comes in the contact stage's enumeration.
+#[test]
+fn a_stop_in_the_contact_stage_runs_no_milp() {
+    let inst = Instance::load("instances/random/n20/n20_k4_s0011.toml").unwrap();
+    let (r, rep) = milp::solve_report(&inst, &no_warm(), &settings(), &TimeLimit::new(0.3)).unwrap();
+    assert!(r.placement.violations(&inst).is_empty());
+    assert!(
+        rep.area_optimal && !rep.contact_optimal,
+        "the stop came in the contact stage: {rep:?}"
+    );
+    assert_eq!((r.subproblems, rep.contact_milp_s), (0, 0.0), "{rep:?}");
+    let bound = rep.contact_upper_bound.expect("a bound on the contact not proven");
+    assert!(bound >= r.placement.contact_length(&inst));
+}
