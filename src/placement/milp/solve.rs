@@ -77,8 +77,9 @@ pub struct MilpReport {
     pub contact_optimal: bool,
     /// An upper bound on the contact length (m) of every BL-stable placement of the optimal
     /// area: the contact found when the contact stage proved it, else what the searches
-    /// stopped early can still promise (the bounds of the parts they did not finish). `None` when the area is not
-    /// proven minimal, when boxes of that area were left undecided, or without a contact stage.
+    /// stopped early can still promise (the bounds of the parts they did not finish). `None`
+    /// when the area is not proven minimal, when boxes of that area were left undecided, or
+    /// without a contact stage.
     pub contact_upper_bound: Option<f64>,
 }
 

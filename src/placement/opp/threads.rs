@@ -268,8 +268,14 @@ pub(super) fn best_packing_piloted(
             false
         };
         let (complete, nodes) = Search::enumerate(items, w, d, stop, &mut visit, Some(&bound), far, meter);
-        // One item: stopped only by a stop asked before it started; no bound then.
-        let open = if complete { f64::NEG_INFINITY } else { f64::INFINITY };
+        // One item, stopped before it was placed: every side and far wall in contact.
+        let open = if complete {
+            f64::NEG_INFINITY
+        } else {
+            let sides = |it: &Item| it.opts.iter().map(|f| f[0] + f[1]).fold(0.0, f64::max);
+            let walls = if far[0] { d } else { 0.0 } + if far[1] { w } else { 0.0 };
+            items.iter().map(sides).sum::<f64>() + walls
+        };
         return (best, complete, nodes, false, open);
     }
     let base = meter.map_or(0, |m| m.get());
