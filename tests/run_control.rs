@@ -248,3 +248,30 @@ fn the_joint_plan_reports_the_actions_it_has_planned() {
     let r = verify(&inst, &out.plan);
     assert!(r.is_executable(), "{r}");
 }
+
+/// A terminator that fires before the sequence search has any plan ends the run with the
+/// error that says it was cancelled, not that it ran out of time (the run's clock had hours
+/// left).
+#[test]
+fn a_terminator_that_fires_before_any_plan_is_a_cancel_not_a_time_limit() {
+    let inst = common::load(LONG);
+    let mut o = PlanOptions::from_instance(&inst);
+    o.sequencer = Sequencer::Astar;
+    o.time_limit = 600.0;
+    o.packing_only = true;
+    let stop = FiresAfter {
+        asked: Cell::new(0),
+        n: 20,
+    };
+    let mut events = Recorder::default();
+    match optimize_with(&inst, &o, &stop, &mut events) {
+        Err(e @ pushpack::error::Error::Stopped { limit, .. }) => {
+            assert_eq!(limit, Limit::Cancel, "{e}");
+            assert_eq!(e.status(), Some(Status::Cancelled), "{e}");
+        }
+        other => panic!(
+            "expected a cancelled search without a plan, got {:?}",
+            other.map(|o| o.plan.status)
+        ),
+    }
+}

@@ -334,7 +334,7 @@ pub fn sequence_placement_with(
     let reason = match first {
         Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0, stop, listener)),
         Err(Error::Infeasible { reason }) if opts.placement_alternatives > 0 => reason,
-        Err(e) => return Err(e),
+        Err(e) => return Err(cancelled(e, stop)),
     };
     let start = std::time::Instant::now();
     let others = placement::bl::alternatives(inst, opts.seed, opts.bl_orders, &limit);
@@ -371,12 +371,34 @@ pub fn sequence_placement_with(
                 return Ok(outcome(inst, opts, pr, sequence, tried, stop, listener));
             }
             Err(Error::Infeasible { .. }) => continue,
-            Err(e) => return Err(e),
+            Err(e) => return Err(cancelled(e, stop)),
         }
     }
     Err(Error::Infeasible {
         reason: format!("{reason}; {tried} alternative Bottom-Left placements tried, none has a plan either"),
     })
+}
+
+/// A search the caller cancelled before it had any plan says so, not "time limit": the run
+/// did not run out of time (as [`outcome`] marks one cancelled with a plan in hand). The
+/// searches see the caller's stop and the run's clock as one limit.
+fn cancelled(e: Error, stop: &dyn Terminator) -> Error {
+    match e {
+        Error::Stopped {
+            stage,
+            limit: Limit::Time,
+            nodes,
+            elapsed_s,
+            min_actions,
+        } if stop.should_stop() => Error::Stopped {
+            stage,
+            limit: Limit::Cancel,
+            nodes,
+            elapsed_s,
+            min_actions,
+        },
+        e => e,
+    }
 }
 
 /// One run of the chosen sequencer on `placement`.
