@@ -44,14 +44,20 @@ fn progress_of(events: &Recorder, of: Stage) -> Vec<(u64, Option<f64>, Option<f6
 /// A 16-object instance whose A* search runs long enough to be interrupted with a plan in hand.
 const LONG: &str = "random/n16/n16_k4_s0001.toml";
 
-#[test]
-fn a_terminator_that_fires_mid_search_returns_the_best_plan_so_far_marked_cancelled() {
+/// [`LONG`] planned by A* within `time_limit` seconds, as a packing study (the committed
+/// 16-object set allows any orientation).
+fn long_astar(time_limit: f64) -> (pushpack::instance::Instance, PlanOptions) {
     let inst = common::load(LONG);
     let mut o = PlanOptions::from_instance(&inst);
     o.sequencer = Sequencer::Astar;
-    o.time_limit = 600.0;
-    // The committed 16-object set allows any orientation: a packing study.
+    o.time_limit = time_limit;
     o.packing_only = true;
+    (inst, o)
+}
+
+#[test]
+fn a_terminator_that_fires_mid_search_returns_the_best_plan_so_far_marked_cancelled() {
+    let (inst, o) = long_astar(600.0);
     let stop = FiresAfter {
         asked: Cell::new(0),
         n: 300,
@@ -81,11 +87,7 @@ fn a_terminator_that_fires_mid_search_returns_the_best_plan_so_far_marked_cancel
 /// plan, and no more often than the documented interval.
 #[test]
 fn the_sequence_search_reports_its_progress_at_most_every_interval() {
-    let inst = common::load(LONG);
-    let mut o = PlanOptions::from_instance(&inst);
-    o.sequencer = Sequencer::Astar;
-    o.packing_only = true;
-    o.time_limit = 2.0;
+    let (inst, o) = long_astar(2.0);
     let mut events = Recorder::default();
     let start = std::time::Instant::now();
     let out = optimize_with(&inst, &o, &pushpack::control::Never, &mut events);
@@ -254,11 +256,7 @@ fn the_joint_plan_reports_the_actions_it_has_planned() {
 /// left).
 #[test]
 fn a_terminator_that_fires_before_any_plan_is_a_cancel_not_a_time_limit() {
-    let inst = common::load(LONG);
-    let mut o = PlanOptions::from_instance(&inst);
-    o.sequencer = Sequencer::Astar;
-    o.time_limit = 600.0;
-    o.packing_only = true;
+    let (inst, o) = long_astar(600.0);
     let stop = FiresAfter {
         asked: Cell::new(0),
         n: 20,

@@ -144,15 +144,7 @@ impl Search<'_> {
             let (w, d) = (self.ydims[k][0], self.ydims[k][1]);
             let (y, a0, a1) = (self.y0[k], self.x0[k], self.x0[k] + w);
             let overlap = |j: usize| (top[j].min(top[k]) - self.y0[j].max(y)).max(0.0);
-            c += if y <= self.t {
-                w
-            } else {
-                let on: f64 = (self.yover[k].iter())
-                    .filter(|&&j| done[j] && (top[j] - y).abs() <= self.t)
-                    .map(|&j| (a1.min(self.x0[j] + self.ydims[j][0]) - a0.max(self.x0[j])).max(0.0))
-                    .sum();
-                on.min(w)
-            };
+            c += self.bottom_contact(k, y, done, top);
             c += if a0 <= self.t {
                 d
             } else {

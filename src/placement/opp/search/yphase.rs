@@ -179,7 +179,6 @@ impl Search<'_> {
             return false;
         }
         let n = self.items.len();
-        let xr = |s: &Self, i: usize| (s.x0[i], s.x0[i] + s.ydims[i][0]);
         if placed == n {
             self.yvisited += 1;
             if let Some(v) = self.visit.as_mut() {
@@ -348,21 +347,7 @@ impl Search<'_> {
             }
             // Bottom side in contact: with the floor, or with the placed tops at `y`.
             let wi = self.ydims[i][0];
-            let bottom = if y <= self.t {
-                wi
-            } else {
-                let on: f64 = self.yover[i]
-                    .iter()
-                    .copied()
-                    .filter(|&j| done[j] && (top[j] - y).abs() <= self.t)
-                    .map(|j| {
-                        let (a0, a1) = xr(self, i);
-                        let (b0, b1) = xr(self, j);
-                        max(min(a1, b1) - max(a0, b0), 0.0)
-                    })
-                    .sum();
-                min(on, wi)
-            };
+            let bottom = self.bottom_contact(i, y, done, top);
             if let Some(cb) = self.cbound {
                 if self.ub_x - self.ydef - (wi - bottom) <= cb.get() + 1e-9 {
                     self.cpruned += 1;
@@ -401,5 +386,21 @@ impl Search<'_> {
             }
         }
         false
+    }
+
+    /// The bottom contact of item `i` at height `y` over the placed items (`done`, tops `top`):
+    /// its width on the floor, else its overlaps in x with the placed tops at `y`.
+    #[inline]
+    pub(super) fn bottom_contact(&self, i: usize, y: f64, done: &[bool], top: &[f64]) -> f64 {
+        let wi = self.ydims[i][0];
+        if y <= self.t {
+            return wi;
+        }
+        let (a0, a1) = (self.x0[i], self.x0[i] + wi);
+        let on: f64 = (self.yover[i].iter())
+            .filter(|&&j| done[j] && (top[j] - y).abs() <= self.t)
+            .map(|&j| max(min(a1, self.x0[j] + self.ydims[j][0]) - max(a0, self.x0[j]), 0.0))
+            .sum();
+        min(on, wi)
     }
 }
