@@ -11,6 +11,7 @@ mod bounds;
 mod holes;
 mod probe;
 mod sides;
+mod stacks;
 mod ymemo;
 #[cfg(test)]
 pub(super) use probe::left_out as probe_left_out;
@@ -241,6 +242,11 @@ pub struct Search<'a> {
     pub(super) holes_on: bool,
     yholes: holes::Holes,
     pub(super) hole_cuts: u64,
+    /// The gapless-stacks bound at the y-phase's root ([`stacks`]): whether it is on (off only
+    /// in tests), its scratch, and how many x-assignments it cut.
+    pub(super) stacks_on: bool,
+    stacks: stacks::Stacks,
+    pub(super) stack_cuts: u64,
     /// The unplaced items' footprints as steps of area and sides ([`sides`]), whether the
     /// x-phase's contact cut uses them (off only in tests), and how many nodes it cut so.
     sides: sides::Sides,
@@ -425,6 +431,9 @@ impl<'a> Search<'a> {
             holes_on: true,
             yholes: holes::Holes::default(),
             hole_cuts: 0,
+            stacks_on: true,
+            stacks: stacks::Stacks::default(),
+            stack_cuts: 0,
             sides: sides::Sides::new(items, w, d, t),
             sides_on: true,
             sides_cuts: 0,

@@ -365,6 +365,10 @@ pub(super) struct Best<'a> {
     /// and its first packing of that score.
     scores: Vec<AtomicU64>,
     found: Mutex<Vec<Option<Scored>>>,
+    /// Whether the searches use the gapless-stacks bound: not in the pilot, whose share of
+    /// y-phase nodes picks the axis (the bound ends most y-phases at their root, and the share
+    /// then no longer tells the axes apart; docs/algorithms.md, *Gapless stacks*).
+    stacks: AtomicBool,
 }
 
 impl<'a> Best<'a> {
@@ -392,6 +396,7 @@ impl<'a> Best<'a> {
             scores: (0..tasks.len()).map(|_| AtomicU64::new(0)).collect(),
             found: Mutex::new(vec![None; tasks.len()]),
             done: (0..tasks.len()).map(|_| AtomicBool::new(false)).collect(),
+            stacks: AtomicBool::new(true),
             root_nodes: root.nodes,
             tasks,
         }
@@ -439,6 +444,7 @@ impl<'a> Best<'a> {
             self.far,
         )
         .metered(meter);
+        s.stacks_on = self.stacks.load(Relaxed);
         while let Some(c) = next() {
             current.set(c);
             let b = self.bound_of(c);
@@ -464,6 +470,7 @@ impl<'a> Best<'a> {
             count.get() >= budget || stop()
         };
         let mut from = 0;
+        self.stacks.store(false, Relaxed);
         let mut next = || {
             if spent() {
                 return None;
@@ -472,7 +479,9 @@ impl<'a> Best<'a> {
             from = c + 1;
             Some(c)
         };
-        self.work(&spent, &mut next, Some(&count))
+        let nodes = self.work(&spent, &mut next, Some(&count));
+        self.stacks.store(true, Relaxed);
+        nodes
     }
 
     /// The tasks not done yet on `threads` threads, until the end or `stop`. Returns the nodes

@@ -23,6 +23,9 @@ pub(in crate::placement::opp) struct Holes {
     /// The grid step of the depths, when the box's depth is at most 63 steps of it (so that the
     /// subset sums fit one word); `None`: the bound is off for this x-assignment.
     step: Option<f64>,
+    /// Whether the holes bound itself runs (off only in tests; the grid serves
+    /// [`super::stacks`] too).
+    enabled: bool,
     /// The box's depth in steps, and each item's depth in its footprint of this x-assignment.
     depth: u32,
     steps: Vec<u32>,
@@ -40,22 +43,33 @@ pub(in crate::placement::opp) struct Holes {
 impl Holes {
     /// Whether the bound runs for the current x-assignment.
     pub(super) fn on(&self) -> bool {
-        self.step.is_some()
+        self.enabled && self.step.is_some()
+    }
+
+    /// The box's depth in grid steps, when the grid is on for this x-assignment.
+    pub(super) fn grid_depth(&self) -> Option<u32> {
+        self.step.map(|_| self.depth)
+    }
+
+    /// Each item's depth in grid steps (for this x-assignment, when the grid is on).
+    pub(super) fn steps(&self) -> &[u32] {
+        &self.steps
     }
 }
 
 impl Search<'_> {
-    /// Set the holes bound up for the current x-assignment (after `ycols`): on when it is
-    /// enabled, the depths share a grid of at most 63 steps across the box, and the columns
-    /// fit a 128-bit set (they do for up to 64 items).
+    /// Set the holes bound's grid up for the current x-assignment (after `ycols`): on when the
+    /// depths share a grid of at most 63 steps across the box and the columns fit a 128-bit set
+    /// (they do for up to 64 items); the bound runs when it is enabled too.
     pub(super) fn prepare_holes(&mut self) {
         let h = &mut self.yholes;
         h.step = None;
+        h.enabled = self.holes_on;
         let Some(g) = self.grid.as_ref().map(|g| g.step()) else {
             return;
         };
         let depth = (self.d / g + 1e-6).floor();
-        if !self.holes_on || depth > 63.0 || self.ycols.len() > 128 {
+        if depth > 63.0 || self.ycols.len() > 128 {
             return;
         }
         let n = self.items.len();

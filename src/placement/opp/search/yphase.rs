@@ -289,6 +289,12 @@ impl Search<'_> {
                 self.cpruned += 1;
                 return false;
             }
+            // At the root, whether the columns can stack without gaps at all (`search/stacks.rs`).
+            if placed == 0 && self.stacks_on && self.gaps_at_least(margin - 1e-9) {
+                self.stack_cuts += 1;
+                self.cpruned += 1;
+                return false;
+            }
             if holes && margin <= could + 1e-9 {
                 match self.holes_lost(done, row, last_y) {
                     Some(h) if margin - h > 1e-9 => {}

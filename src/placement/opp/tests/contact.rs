@@ -300,6 +300,20 @@ fn the_holes_bound_keeps_every_packing_above_the_bound() {
     same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.5), &|s, on| s.holes_on = on, &|s| s.hole_cuts);
 }
 
+/// The gapless-stacks bound cuts only x-assignments that hold no packing above the bound: the
+/// same comparison as [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without
+/// it, on 300 instances of 6 to 9 items under bounds 0.5 or 1.5 below the best, and 100 more
+/// 2.5 or 3.5 below it (where a gap in one column of width 1 no longer closes the margin).
+#[test]
+fn the_stacks_bound_keeps_every_packing_above_the_bound() {
+    let mut rng = Lcg(67);
+    let set = |s: &mut Search, on: bool| s.stacks_on = on;
+    let cases = near_their_area(&mut rng, 300, (6, 4), (6, 4));
+    same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.25), &set, &|s| s.stack_cuts);
+    let cases = near_their_area(&mut rng, 100, (6, 4), (6, 4));
+    same_packings_above_the_bound(&cases, ([2.5, 3.5], 0.25), &set, &|s| s.stack_cuts);
+}
+
 /// The y-phase's memo cuts only states whose completions hold no packing above the bound: the
 /// same comparison as [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without
 /// the memo, on 300 instances of 6 to 9 items and 40 of 7 to 10, under bounds further below the

@@ -1,0 +1,151 @@
+//! The y-phase's gapless-stacks bound: when the columns of a complete x-assignment cannot all
+//! stack from the floor without a gap, every packing loses bottom contact over the columns that
+//! keep one, and the narrowest such sets of columns bound that loss.
+//!
+//! Why it is exact (docs/algorithms.md, *Gapless stacks*): in a column `c` (between consecutive
+//! item edges) with no gap, the items covering `c` fill `[0, S_c)` exactly, `S_c` the sum of
+//! their depths. So an item `i` of `c` rests at a height reached from the floor by a chain of
+//! the others, each at a height it may take, and the rest of them stack from `i`'s top up to
+//! `S_c`. Heights that no such chains reach are struck from every item's set of heights,
+//! column by column, until nothing changes; an empty set proves that some column keeps a gap.
+//! A gap in `c` leaves the bottom of the item above it free over the whole width of `c`, so a
+//! packing whose gaps lie in the columns `G` loses at least their widths, and it stacks without
+//! gaps in the other columns: the propagation with the columns of `G` left out passes. When it
+//! fails for every set of columns narrower than the margin, every packing loses the margin.
+//! The chains may use an item twice and ignore the other columns' order, which only lets more
+//! heights pass.
+
+use super::*;
+
+/// Most propagations the search for gap columns may spend on one x-assignment; past it, the
+/// bound gives up and cuts nothing.
+const CALLS: u32 = 64;
+
+/// Scratch of the gapless-stacks bound.
+#[derive(Default)]
+pub(in crate::placement::opp) struct Stacks {
+    /// Per item, the heights (bit `h`: `h` grid steps) it may still take.
+    heights: Vec<u64>,
+    /// Per column, the depth of the items covering it, in steps.
+    sums: Vec<u32>,
+    /// The columns with room for a gap (their items stack to less than the box's depth),
+    /// narrowest first.
+    room: Vec<usize>,
+}
+
+impl Search<'_> {
+    /// Whether every packing of the current x-assignment keeps gaps under bottoms in columns at
+    /// least `below` wide in all. `false` when the holes bound's grid is off, or when the
+    /// search for such columns runs past [`CALLS`].
+    pub(super) fn gaps_at_least(&mut self, below: f64) -> bool {
+        let Some(depth) = self.yholes.grid_depth() else {
+            return false;
+        };
+        let steps = self.yholes.steps();
+        let st = &mut self.stacks;
+        st.sums.clear();
+        st.room.clear();
+        for (c, (_, cover)) in self.ycols.iter().enumerate() {
+            let sum: u32 = cover.iter().map(|&j| steps[j]).sum();
+            st.sums.push(sum);
+            if sum < depth {
+                st.room.push(c);
+            }
+        }
+        let cols = &self.ycols;
+        st.room.sort_by(|&a, &b| cols[a].0.total_cmp(&cols[b].0));
+        if self.stacks_pass(0) {
+            return false;
+        }
+        let mut calls = 1;
+        !self.gaps_pass(0, 0, 0.0, below, &mut calls)
+    }
+
+    /// Whether some set of columns with room, from `room[from]` on, added to `skip` and less
+    /// than `below` wide with it (`width` so far), lets the other columns stack without a gap;
+    /// `true` also once `calls` passes [`CALLS`] (the search gives up).
+    fn gaps_pass(&mut self, from: usize, skip: u128, width: f64, below: f64, calls: &mut u32) -> bool {
+        for k in from..self.stacks.room.len() {
+            let c = self.stacks.room[k];
+            let w = width + self.ycols[c].0;
+            // Narrowest first: no later column fits either.
+            if w >= below {
+                break;
+            }
+            *calls += 1;
+            if *calls > CALLS {
+                return true;
+            }
+            let s = skip | 1 << c;
+            if self.stacks_pass(s) || self.gaps_pass(k + 1, s, w, below, calls) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Whether the propagation over the columns not in `skip` leaves every item a height.
+    fn stacks_pass(&mut self, skip: u128) -> bool {
+        let depth = self.yholes.grid_depth().unwrap_or(0);
+        let steps = self.yholes.steps();
+        let st = &mut self.stacks;
+        st.heights.clear();
+        for &s in steps {
+            if s > depth {
+                return false;
+            }
+            // Bits 0 ..= depth − s.
+            st.heights.push(u64::MAX >> (63 - (depth - s)));
+        }
+        let hs = &mut st.heights;
+        loop {
+            let mut changed = false;
+            for (c, (_, cover)) in self.ycols.iter().enumerate() {
+                if skip >> c & 1 == 1 {
+                    continue;
+                }
+                let sum = st.sums[c];
+                if sum > depth {
+                    return false;
+                }
+                for &i in cover {
+                    // Heights the others reach from the floor, and those from which they reach
+                    // the column's top, by chains at heights each may take.
+                    let mut up = 1u64;
+                    loop {
+                        let mut next = up;
+                        for &j in cover.iter().filter(|&&j| j != i) {
+                            next |= (next & hs[j]) << steps[j];
+                        }
+                        if next == up {
+                            break;
+                        }
+                        up = next;
+                    }
+                    let mut down = 1u64 << sum;
+                    loop {
+                        let mut next = down;
+                        for &j in cover.iter().filter(|&&j| j != i) {
+                            next |= (next >> steps[j]) & hs[j];
+                        }
+                        if next == down {
+                            break;
+                        }
+                        down = next;
+                    }
+                    let new = hs[i] & up & (down >> steps[i]);
+                    if new != hs[i] {
+                        if new == 0 {
+                            return false;
+                        }
+                        hs[i] = new;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                return true;
+            }
+        }
+    }
+}
