@@ -33,41 +33,47 @@ pub(in crate::placement::opp) struct Stacks {
     room: Vec<usize>,
 }
 
-impl Search<'_> {
-    /// Whether every packing of the current x-assignment keeps gaps under bottoms in columns at
-    /// least `below` wide in all. `false` when the holes bound's grid is off, or when the
-    /// search for such columns runs past [`CALLS`].
-    pub(super) fn gaps_at_least(&mut self, below: f64) -> bool {
-        let Some(depth) = self.yholes.grid_depth() else {
-            return false;
-        };
-        let steps = self.yholes.steps();
-        let st = &mut self.stacks;
-        st.sums.clear();
-        st.room.clear();
-        for (c, (_, cover)) in self.ycols.iter().enumerate() {
+/// Columns as (width, the items covering it), at most 128 of them.
+type Columns = [(f64, Vec<usize>)];
+
+impl Stacks {
+    /// Whether every packing keeps gaps under bottoms in columns of `cols` at least `below`
+    /// wide in all, the items `steps` deep (grid steps) in a box `depth` steps deep (at most
+    /// 63). `false` also when the search for such columns runs past [`CALLS`].
+    pub(super) fn gaps_at_least(&mut self, cols: &Columns, steps: &[u32], depth: u32, below: f64) -> bool {
+        debug_assert!(depth <= 63 && cols.len() <= 128);
+        self.sums.clear();
+        self.room.clear();
+        for (c, (_, cover)) in cols.iter().enumerate() {
             let sum: u32 = cover.iter().map(|&j| steps[j]).sum();
-            st.sums.push(sum);
+            self.sums.push(sum);
             if sum < depth {
-                st.room.push(c);
+                self.room.push(c);
             }
         }
-        let cols = &self.ycols;
-        st.room.sort_by(|&a, &b| cols[a].0.total_cmp(&cols[b].0));
-        if self.stacks_pass(0) {
+        self.room.sort_by(|&a, &b| cols[a].0.total_cmp(&cols[b].0));
+        if self.pass(cols, steps, depth, 0) {
             return false;
         }
         let mut calls = 1;
-        !self.gaps_pass(0, 0, 0.0, below, &mut calls)
+        !self.gaps_pass(cols, steps, depth, (0, 0, 0.0), below, &mut calls)
     }
 
     /// Whether some set of columns with room, from `room[from]` on, added to `skip` and less
     /// than `below` wide with it (`width` so far), lets the other columns stack without a gap;
     /// `true` also once `calls` passes [`CALLS`] (the search gives up).
-    fn gaps_pass(&mut self, from: usize, skip: u128, width: f64, below: f64, calls: &mut u32) -> bool {
-        for k in from..self.stacks.room.len() {
-            let c = self.stacks.room[k];
-            let w = width + self.ycols[c].0;
+    fn gaps_pass(
+        &mut self,
+        cols: &Columns,
+        steps: &[u32],
+        depth: u32,
+        (from, skip, width): (usize, u128, f64),
+        below: f64,
+        calls: &mut u32,
+    ) -> bool {
+        for k in from..self.room.len() {
+            let c = self.room[k];
+            let w = width + cols[c].0;
             // Narrowest first: no later column fits either.
             if w >= below {
                 break;
@@ -77,7 +83,7 @@ impl Search<'_> {
                 return true;
             }
             let s = skip | 1 << c;
-            if self.stacks_pass(s) || self.gaps_pass(k + 1, s, w, below, calls) {
+            if self.pass(cols, steps, depth, s) || self.gaps_pass(cols, steps, depth, (k + 1, s, w), below, calls) {
                 return true;
             }
         }
@@ -85,26 +91,23 @@ impl Search<'_> {
     }
 
     /// Whether the propagation over the columns not in `skip` leaves every item a height.
-    fn stacks_pass(&mut self, skip: u128) -> bool {
-        let depth = self.yholes.grid_depth().unwrap_or(0);
-        let steps = self.yholes.steps();
-        let st = &mut self.stacks;
-        st.heights.clear();
+    fn pass(&mut self, cols: &Columns, steps: &[u32], depth: u32, skip: u128) -> bool {
+        self.heights.clear();
         for &s in steps {
             if s > depth {
                 return false;
             }
             // Bits 0 ..= depth − s.
-            st.heights.push(u64::MAX >> (63 - (depth - s)));
+            self.heights.push(u64::MAX >> (63 - (depth - s)));
         }
-        let hs = &mut st.heights;
+        let hs = &mut self.heights;
         loop {
             let mut changed = false;
-            for (c, (_, cover)) in self.ycols.iter().enumerate() {
+            for (c, (_, cover)) in cols.iter().enumerate() {
                 if skip >> c & 1 == 1 {
                     continue;
                 }
-                let sum = st.sums[c];
+                let sum = self.sums[c];
                 if sum > depth {
                     return false;
                 }
@@ -147,5 +150,18 @@ impl Search<'_> {
                 return true;
             }
         }
+    }
+}
+
+impl Search<'_> {
+    /// Whether every packing of the current x-assignment keeps gaps under bottoms in columns
+    /// at least `below` wide in all ([`Stacks::gaps_at_least`] on `ycols`); `false` when the
+    /// holes bound's grid is off.
+    pub(super) fn gaps_at_least(&mut self, below: f64) -> bool {
+        let Some(depth) = self.yholes.grid_depth() else {
+            return false;
+        };
+        self.stacks
+            .gaps_at_least(&self.ycols, self.yholes.steps(), depth, below)
     }
 }
