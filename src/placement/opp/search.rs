@@ -99,8 +99,6 @@ pub struct Search<'a> {
     stop: &'a dyn Fn() -> bool,
     /// Search nodes visited (both phases).
     pub nodes: u64,
-    /// Of those, the y-phase's ([`super::best_packing`] picks the axis by them).
-    pub(super) ynodes: u64,
     /// A shared node count to keep up to date at every stop poll (for progress events), and
     /// its value when this search started.
     meter: Option<(&'a Cell<u64>, u64)>,
@@ -363,7 +361,6 @@ impl<'a> Search<'a> {
             t,
             stop,
             nodes: 0,
-            ynodes: 0,
             meter: None,
             stopped: false,
             prev_same,

@@ -213,11 +213,11 @@ pub type Scored = (f64, Vec<Pos>);
 ///
 /// Either axis may be the x-phase's: the packings and their scores are the same up to
 /// transposition, but the cost is not (docs/algorithms.md, *Which axis the x-phase takes*).
-/// The search first runs 2¹⁶ nodes along the given axis on one thread. When more than 60 %
-/// of them were the y-phase's, whose refutations nothing remembers, it runs three times as
-/// many again; if it has not finished by then and the y-phase's share is still above 60 %,
-/// the other axis's enumeration takes over. Otherwise this one goes on where the pilot
-/// stopped.
+/// The search first runs 2¹⁶ nodes along the given axis on one thread. When it handed the
+/// y-phase more than one complete x-assignment per 100 nodes (the x-phase lets through what
+/// the y-phase must refute one by one, and nothing remembers those), it runs three times as
+/// many again; if it has not finished by then and the rate is still above that, the other
+/// axis's enumeration takes over. Otherwise this one goes on where the pilot stopped.
 ///
 /// The same answer on any number of threads: the pilot runs on one thread and polls its
 /// budget every 1,024 nodes, so the axis is chosen alike; the answer is then the first
@@ -236,14 +236,25 @@ pub fn best_packing(
     meter: Option<&Cell<u64>>,
     threads: usize,
 ) -> (Option<Scored>, bool, u64, f64) {
-    let (found, complete, nodes, _, open) =
-        best_packing_piloted(items, w, d, stop, score, to_beat, far, meter, threads, PILOT_NODES);
+    let (found, complete, nodes, _, open) = best_packing_piloted(
+        items,
+        w,
+        d,
+        stop,
+        score,
+        to_beat,
+        far,
+        meter,
+        threads,
+        (PILOT_NODES, Y_RATE),
+    );
     (found, complete, nodes, open)
 }
 
-/// [`best_packing`] with a pilot of `budget` nodes; also says whether it turned to the other
-/// axis (before the open bound).
-#[allow(clippy::too_many_arguments)] // best_packing's, and the pilot's budget
+/// [`best_packing`] with a pilot of `budget` nodes that turns above `rate` complete
+/// x-assignments per node; also says whether it turned to the other axis (before the open
+/// bound).
+#[allow(clippy::too_many_arguments)] // best_packing's, and the pilot's budget and rate
 pub(super) fn best_packing_piloted(
     items: &[Item],
     w: f64,
@@ -254,7 +265,7 @@ pub(super) fn best_packing_piloted(
     far: [bool; 2],
     meter: Option<&Cell<u64>>,
     threads: usize,
-    budget: u64,
+    (budget, rate): (u64, f64),
 ) -> (Option<Scored>, bool, u64, bool, f64) {
     let to_beat = to_beat.max(0.0);
     if items.len() < 2 {
@@ -288,16 +299,16 @@ pub(super) fn best_packing_piloted(
         }
     };
     let along = Best::new(items, w, d, score, to_beat, far);
-    let (pilot, pilot_y) = along.pilot(budget, stop, &from(base + along.root_nodes));
+    let (pilot, leaves) = along.pilot(budget, stop, &from(base + along.root_nodes));
     let mut nodes = along.root_nodes + pilot;
-    let mut turn = !along.complete() && pilot_y as f64 > Y_SHARE * pilot as f64;
+    let mut turn = !along.complete() && leaves as f64 > rate * pilot as f64;
     if turn {
         // Before giving up what the pilot did, the same axis gets three times as many nodes
         // again: a box it finishes within them is not worth the other axis's risk
         // (n20_k4_s0012 took 0.02 s along the longer side and 1.12 s turned).
-        let (more, more_y) = along.pilot(3 * budget, stop, &from(base + nodes));
+        let (more, more_leaves) = along.pilot(3 * budget, stop, &from(base + nodes));
         nodes += more;
-        turn = !along.complete() && (pilot_y + more_y) as f64 > Y_SHARE * (pilot + more) as f64;
+        turn = !along.complete() && (leaves + more_leaves) as f64 > rate * (pilot + more) as f64;
     }
     if !turn {
         nodes += along.finish(threads, stop, meter);
@@ -333,10 +344,11 @@ pub(super) fn best_packing_piloted(
 /// part that two threads cannot share.
 const PILOT_NODES: u64 = 1 << 16;
 
-/// The share of the pilot's nodes in the y-phase above which [`best_packing`] turns to the
-/// other axis (docs/algorithms.md, *Which axis the x-phase takes*; 0.7 until the holes bound
-/// took a tenth or more off the y-heavy pilots' shares, *Holes under the y-phase's items*).
-const Y_SHARE: f64 = 0.6;
+/// Complete x-assignments per pilot node above which [`best_packing`] turns to the other axis
+/// (docs/algorithms.md, *Which axis the x-phase takes* and *Gapless stacks*: until the
+/// gapless-stacks bound ended most y-phases at their root, the rule was a share of y-phase
+/// nodes above 60 %, and 70 % before the holes bound).
+const Y_RATE: f64 = 0.01;
 
 /// Scores closer than this are ties (contact lengths are sums of sizes).
 const TIE: f64 = 1e-9;
@@ -365,10 +377,6 @@ pub(super) struct Best<'a> {
     /// and its first packing of that score.
     scores: Vec<AtomicU64>,
     found: Mutex<Vec<Option<Scored>>>,
-    /// Whether the searches use the gapless-stacks bound: not in the pilot, whose share of
-    /// y-phase nodes picks the axis (the bound ends most y-phases at their root, and the share
-    /// then no longer tells the axes apart; docs/algorithms.md, *Gapless stacks*).
-    stacks: AtomicBool,
 }
 
 impl<'a> Best<'a> {
@@ -396,7 +404,6 @@ impl<'a> Best<'a> {
             scores: (0..tasks.len()).map(|_| AtomicU64::new(0)).collect(),
             found: Mutex::new(vec![None; tasks.len()]),
             done: (0..tasks.len()).map(|_| AtomicBool::new(false)).collect(),
-            stacks: AtomicBool::new(true),
             root_nodes: root.nodes,
             tasks,
         }
@@ -412,7 +419,7 @@ impl<'a> Best<'a> {
 
     /// One thread's work: the tasks `next` hands out, in any order, with one search and its
     /// memo; `poll` is its stop, and `meter` is kept at the nodes so far at each poll. Returns
-    /// the nodes visited and, of those, the y-phase's.
+    /// the nodes visited and the complete x-assignments handed to the y-phase.
     pub(super) fn work(
         &self,
         poll: &dyn Fn() -> bool,
@@ -444,7 +451,6 @@ impl<'a> Best<'a> {
             self.far,
         )
         .metered(meter);
-        s.stacks_on = self.stacks.load(Relaxed);
         while let Some(c) = next() {
             current.set(c);
             let b = self.bound_of(c);
@@ -457,11 +463,11 @@ impl<'a> Best<'a> {
                 self.done[c].store(true, Relaxed);
             }
         }
-        (s.nodes, s.ynodes)
+        (s.nodes, s.yleaves)
     }
 
     /// The tasks not done yet, in order, on this thread, until `budget` nodes or `stop`;
-    /// `meter` is told the nodes so far. Returns the nodes visited and the y-phase's. Polls
+    /// `meter` is told the nodes so far. Returns the nodes visited and the complete x-assignments. Polls
     /// come every 1,024 nodes, so where it stops depends on the search alone.
     fn pilot(&self, budget: u64, stop: &dyn Fn() -> bool, meter: &dyn Fn(u64)) -> (u64, u64) {
         let count = Cell::new(0);
@@ -470,7 +476,6 @@ impl<'a> Best<'a> {
             count.get() >= budget || stop()
         };
         let mut from = 0;
-        self.stacks.store(false, Relaxed);
         let mut next = || {
             if spent() {
                 return None;
@@ -479,9 +484,7 @@ impl<'a> Best<'a> {
             from = c + 1;
             Some(c)
         };
-        let nodes = self.work(&spent, &mut next, Some(&count));
-        self.stacks.store(true, Relaxed);
-        nodes
+        self.work(&spent, &mut next, Some(&count))
     }
 
     /// The tasks not done yet on `threads` threads, until the end or `stop`. Returns the nodes

@@ -174,7 +174,6 @@ impl Search<'_> {
     /// Items go in the order of their bottom edges, each onto the highest top of the placed
     /// items that overlap it in x (ties of equal bottom in index order). `placed` items are done.
     fn yphase(&mut self, done: &mut [bool], top: &mut [f64], last_y: f64, last_idx: usize, placed: usize) -> bool {
-        self.ynodes += 1;
         if self.tick() {
             return false;
         }

@@ -395,8 +395,8 @@ fn same_packings_above_the_bound(
     );
 }
 
-/// Turning to the other axis keeps the answer: with a pilot of 1,024 nodes (so that many
-/// enumerations are decided by the pilot's share of y-phase nodes), the best score is the one
+/// Turning to the other axis keeps the answer: with a pilot of 1,024 nodes that turns above
+/// one complete x-assignment per 1,000 nodes (so that many enumerations turn), the best score is the one
 /// of the enumeration along the given axis, the packing is valid in the given frame and has
 /// that score, and one, two and three threads return the very same packing. On random
 /// instances of 5 to 9 items (some lying on any face) near their area, some boxes reaching the
@@ -416,7 +416,7 @@ fn the_other_axis_finds_the_same_best_packing() {
         let mut first = None;
         for threads in 1..=3 {
             let (found, complete, _, turn, _) =
-                best_packing_piloted(items, *w, *d, &never, &score, 0.0, *far, None, threads, 1024);
+                best_packing_piloted(items, *w, *d, &never, &score, 0.0, *far, None, threads, (1024, 0.001));
             assert!(complete, "{what}");
             assert_eq!(
                 found.as_ref().map(|f| f.0),
