@@ -396,9 +396,9 @@ fn same_packings_above_the_bound(
 }
 
 /// Turning to the other axis keeps the answer: with a pilot of 1,024 nodes that turns above
-/// one complete x-assignment per 1,000 nodes (so that many enumerations turn), the best score is the one
-/// of the enumeration along the given axis, the packing is valid in the given frame and has
-/// that score, and one, two and three threads return the very same packing. On random
+/// one complete x-assignment per 1,000 nodes (so that many enumerations turn), the best score
+/// is the one of the enumeration along the given axis, the packing is valid in the given frame
+/// and has that score, and one, two and three threads return the very same packing. On random
 /// instances of 5 to 9 items (some lying on any face) near their area, some boxes reaching the
 /// far walls, and the squares 1…8 and 1…9 in their optimal boxes; both axes are taken many
 /// times.
