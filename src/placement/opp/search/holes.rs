@@ -23,9 +23,6 @@ pub(in crate::placement::opp) struct Holes {
     /// The grid step of the depths, when the box's depth is at most 63 steps of it (so that the
     /// subset sums fit one word); `None`: the bound is off for this x-assignment.
     step: Option<f64>,
-    /// Whether the holes bound itself runs (off only in tests; the grid serves
-    /// [`super::stacks`] too).
-    enabled: bool,
     /// The box's depth in steps, and each item's depth in its footprint of this x-assignment.
     depth: u32,
     steps: Vec<u32>,
@@ -41,9 +38,10 @@ pub(in crate::placement::opp) struct Holes {
 }
 
 impl Holes {
-    /// Whether the bound runs for the current x-assignment.
+    /// Whether the grid is on for the current x-assignment (the holes bound runs when it is
+    /// and the bound is enabled; the grid serves [`super::stacks`] too).
     pub(super) fn on(&self) -> bool {
-        self.enabled && self.step.is_some()
+        self.step.is_some()
     }
 
     /// The box's depth in grid steps, when the grid is on for this x-assignment.
@@ -60,11 +58,10 @@ impl Holes {
 impl Search<'_> {
     /// Set the holes bound's grid up for the current x-assignment (after `ycols`): on when the
     /// depths share a grid of at most 63 steps across the box and the columns fit a 128-bit set
-    /// (they do for up to 64 items); the bound runs when it is enabled too.
+    /// (they do for up to 64 items).
     pub(super) fn prepare_holes(&mut self) {
         let h = &mut self.yholes;
         h.step = None;
-        h.enabled = self.holes_on;
         let Some(g) = self.grid.as_ref().map(|g| g.step()) else {
             return;
         };

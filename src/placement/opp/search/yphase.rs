@@ -249,7 +249,7 @@ impl Search<'_> {
             // only if that top is at `last_y` or above and the item's floor is no higher; else
             // its bottom faces free space over the whole column.
             let mut wells = 0.0;
-            let holes = self.yholes.on();
+            let holes = self.holes_on && self.yholes.on();
             // Widths of the columns where the holes bound may find a hole: if they cannot
             // close the margin, it need not run.
             let mut could = 0.0;
