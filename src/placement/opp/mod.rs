@@ -359,6 +359,7 @@ fn free_cell(rects: &[[f64; 4]], g: f64, w: f64, d: f64) -> Option<(f64, f64)> {
 }
 
 mod dominance;
+mod faces;
 mod search;
 mod subset;
 mod threads;

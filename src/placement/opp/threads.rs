@@ -1,6 +1,7 @@
 //! One box on several threads, with the answer of one: the search is split into tasks (paths
 //! from the root), which threads that each keep a search and its memo take in ranges.
 
+use super::faces::{self, Faces};
 use super::search::Step;
 use super::{Item, Outcome, Pos, Search};
 use std::cell::Cell;
@@ -268,6 +269,49 @@ pub(super) fn best_packing_piloted(
     (budget, rate): (u64, f64),
 ) -> (Option<Scored>, bool, u64, bool, f64) {
     let to_beat = to_beat.max(0.0);
+    match faces::restrict(items, w, d, to_beat, far, TIE) {
+        Faces::All => piloted_on(items, w, d, stop, score, to_beat, far, meter, threads, (budget, rate)),
+        // No footprints with sides enough: nothing beats it, and nothing is left open.
+        Faces::Nothing => (None, true, 0, false, f64::NEG_INFINITY),
+        Faces::Only(kept) => {
+            let score_kept = |pos: &[Pos]| score(&kept.back(pos));
+            let (found, complete, nodes, turned, open) = piloted_on(
+                &kept.items,
+                w,
+                d,
+                stop,
+                &score_kept,
+                to_beat,
+                far,
+                meter,
+                threads,
+                (budget, rate),
+            );
+            (
+                found.map(|(c, pos)| (c, kept.back(&pos))),
+                complete,
+                nodes,
+                turned,
+                open,
+            )
+        }
+    }
+}
+
+/// [`best_packing_piloted`] with every footprint of `items` (`to_beat` at least 0).
+#[allow(clippy::too_many_arguments)] // best_packing_piloted's
+pub(super) fn piloted_on(
+    items: &[Item],
+    w: f64,
+    d: f64,
+    stop: &dyn Fn() -> bool,
+    score: &(dyn Fn(&[Pos]) -> Option<f64> + Sync),
+    to_beat: f64,
+    far: [bool; 2],
+    meter: Option<&Cell<u64>>,
+    threads: usize,
+    (budget, rate): (u64, f64),
+) -> (Option<Scored>, bool, u64, bool, f64) {
     if items.len() < 2 {
         let bound = Cell::new(to_beat);
         let mut best = None;

@@ -1,7 +1,8 @@
 //! The contact enumeration: every contact cut against the enumeration without them, and the
 //! same best packing on any number of threads and in any order of its tasks.
 
-use super::super::threads::{best_packing_piloted, Best};
+use super::super::faces::{restrict, Faces};
+use super::super::threads::{best_packing_piloted, piloted_on, Best};
 use super::*;
 use std::cell::Cell;
 
@@ -438,4 +439,45 @@ fn the_other_axis_finds_the_same_best_packing() {
         }
     }
     assert!(turned > 20 && kept > 20, "{turned} turned, {kept} kept the given axis");
+}
+
+/// Leaving out the footprints that no combination able to beat the incumbent uses changes no
+/// answer: on boxes lying on any face (several areas and sides per item) near their area, with
+/// random far walls, and incumbents from nothing up to the best contact itself, the enumeration
+/// with the restriction finds the same score and the very same packing as without it. Each
+/// outcome of the restriction occurs: some footprints left out, none can beat, nothing left out.
+#[test]
+fn footprints_that_cannot_beat_are_left_out_exactly() {
+    let mut rng = Lcg(71);
+    let never = || false;
+    let (mut only, mut nothing, mut all) = (0, 0, 0);
+    let pilot = (1 << 16, 0.01);
+    for (case, (items, w, d, far)) in near_their_area(&mut rng, 300, (4, 2), (4, 4)).iter().enumerate() {
+        let score = |p: &[Pos]| contact_if_stable(items, p, (*w, *d), *far);
+        let (best, done, ..) = piloted_on(items, *w, *d, &never, &score, 0.0, *far, None, 1, pilot);
+        assert!(done);
+        let Some((top, _)) = best else { continue };
+        for to_beat in [0.0, top - 3.0, top - 2.0, top - 1.0, top - 0.5, top] {
+            let what = format!("case {case}: {items:?} in {w} × {d}, far {far:?}, to beat {to_beat}");
+            let to_beat = to_beat.max(0.0);
+            match restrict(items, *w, *d, to_beat, *far, 1e-9) {
+                Faces::All => all += 1,
+                Faces::Nothing => nothing += 1,
+                Faces::Only(_) => only += 1,
+            }
+            let (want, done, ..) = piloted_on(items, *w, *d, &never, &score, to_beat, *far, None, 1, pilot);
+            assert!(done, "{what}");
+            let (got, done, ..) = best_packing_piloted(items, *w, *d, &never, &score, to_beat, *far, None, 1, pilot);
+            assert!(done, "{what}");
+            assert_eq!(got, want, "{what}");
+            if let Some((c, p)) = &got {
+                assert!(valid(items, p, *w, *d), "{what}: {p:?}");
+                assert_eq!(score(p), Some(*c), "{what}: {p:?}");
+            }
+        }
+    }
+    assert!(
+        only > 100 && nothing > 100 && all > 100,
+        "{only} restricted, {nothing} with nothing to beat it, {all} kept whole"
+    );
 }
