@@ -212,6 +212,11 @@ pub type Scored = (f64, Vec<Pos>);
 /// best found and `to_beat`, it bounds every packing's score, which is what a stopped search
 /// can still promise).
 ///
+/// Footprints that no combination able to beat `to_beat` uses are left out first (their sides
+/// and the far walls bound the contact, and their areas must fit the box: docs/algorithms.md,
+/// *Footprint combinations that can beat the incumbent*); the enumeration keeps its order over
+/// the rest, so the answer is the same.
+///
 /// Either axis may be the x-phase's: the packings and their scores are the same up to
 /// transposition, but the cost is not (docs/algorithms.md, *Which axis the x-phase takes*).
 /// The search first runs 2¹⁶ nodes along the given axis on one thread. When it handed the
