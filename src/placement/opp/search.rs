@@ -10,13 +10,11 @@ use std::hash::{BuildHasherDefault, Hasher};
 mod bounds;
 mod holes;
 mod probe;
-mod shared;
 mod sides;
 mod stacks;
 mod ymemo;
 #[cfg(test)]
 pub(super) use probe::left_out as probe_left_out;
-pub(super) use shared::SharedProfiles;
 mod yphase;
 
 /// The memo's hasher: the multiply-and-rotate of rustc's FxHash. The keys are the search's own
@@ -158,9 +156,6 @@ pub struct Search<'a> {
     /// their own; what a probe finds dead goes into both.
     dominant: [Profiles; 2],
     dominant_len: usize,
-    /// The search's profiles kept with the other searches of the box instead
-    /// ([`Self::sharing`]; the probes keep theirs in `dominant[1]`).
-    shared: Option<&'a SharedProfiles>,
     /// The profiles of `dominant`, one after the other: a box per profile made allocation and
     /// freeing about a tenth of the contact enumeration's time (`perf`, squares 1…21). Those
     /// dropped as dominated stay until the memo starts afresh.
@@ -400,7 +395,6 @@ impl<'a> Search<'a> {
             key_pool: Vec::new(),
             dominant: [HashMap::default(), HashMap::default()],
             dominant_len: 0,
-            shared: None,
             arena: Vec::new(),
             memo_cap: DEAD_MAX,
             dominance: true,
@@ -577,13 +571,6 @@ impl<'a> Search<'a> {
         self.stopped
     }
 
-    /// Keep the dead profiles in `shared`, with every other search of the same box and items
-    /// that does (`search/shared.rs` says why that keeps every answer).
-    pub(super) fn sharing(mut self, shared: &'a SharedProfiles) -> Self {
-        self.shared = Some(shared);
-        self
-    }
-
     /// Keep `meter` at its current value plus this search's nodes, at every stop poll (the
     /// caller adds the final count when the search returns).
     pub fn metered(mut self, meter: Option<&'a Cell<u64>>) -> Self {
@@ -683,23 +670,17 @@ impl<'a> Search<'a> {
         let cut = if let Some(k) = &key {
             // The open-object profile: the key without its head and contact marker (`state_key`).
             let profile = &k[2..k.len() - self.cbound.is_some() as usize];
-            let (dead, equal) = match self.shared.filter(|_| !self.probing) {
-                Some(shared) => shared.lookup((self.placed_mask, k[1].0), profile, self.dominance),
-                None => {
-                    let list = self.dominant[self.probing as usize].get(&(self.placed_mask, k[1].0));
-                    let at = |&p: &Profile| in_arena(&self.arena, p);
-                    let same = |a: &Profile| {
-                        if self.dominance {
-                            dominated(profile, at(a))
-                        } else {
-                            at(a) == profile
-                        }
-                    };
-                    let dead = list.is_some_and(|l| l.iter().any(same));
-                    (dead, list.is_some_and(|l| l.iter().any(|a| at(a) == profile)))
+            let list = self.dominant[self.probing as usize].get(&(self.placed_mask, k[1].0));
+            let at = |&p: &Profile| in_arena(&self.arena, p);
+            let same = |a: &Profile| {
+                if self.dominance {
+                    dominated(profile, at(a))
+                } else {
+                    at(a) == profile
                 }
             };
-            self.dominance_cuts += (dead && !equal) as u64;
+            let dead = list.is_some_and(|l| l.iter().any(same));
+            self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| at(a) == profile))) as u64;
             // A dead profile before the capacity check, which costs more: both are cuts at any
             // bound, so the order changes no node, only what is paid.
             dead || self.capacity_refutes(t, min_idx)
@@ -751,17 +732,6 @@ impl<'a> Search<'a> {
             // left recently, not the first ones (the hardest box of squares 1…21, 71 × 47:
             // 83 M nodes keeping the first 2 M states, 32 M starting afresh).
             let profile = &key[2..key.len() - self.cbound.is_some() as usize];
-            // The search's own list goes to the shared table when there is one.
-            let first = match self.shared {
-                Some(shared) => {
-                    shared.record((self.placed_mask, key[1].0), profile, self.dominance, self.memo_cap);
-                    1
-                }
-                None => 0,
-            };
-            if first > self.probing as usize {
-                return;
-            }
             // The arena also starts afresh when the dropped profiles fill it (within u32).
             if self.dominant_len >= self.memo_cap || self.arena.len() + profile.len() > ARENA_MAX {
                 self.dominant.iter_mut().for_each(HashMap::clear);
@@ -772,7 +742,7 @@ impl<'a> Search<'a> {
             self.arena.extend_from_slice(profile);
             // A probe's dead state is dead for the search too; not the other way round. Both
             // lists point at the one copy in the arena.
-            for m in first..=self.probing as usize {
+            for m in 0..=self.probing as usize {
                 let list = self.dominant[m].entry((self.placed_mask, key[1].0)).or_default();
                 // Records this one dominates are redundant: whatever they cut, it cuts.
                 let before = list.len();

@@ -2,7 +2,7 @@
 //! from the root), which threads that each keep a search and its memo take in ranges.
 
 use super::faces::{self, Faces};
-use super::search::{SharedProfiles, Step};
+use super::search::Step;
 use super::{Item, Outcome, Pos, Search};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::Relaxed};
@@ -170,11 +170,10 @@ pub(super) fn search(
     // The least branch that packed: branches after it are called off.
     let packed_at = AtomicUsize::new(usize::MAX);
     let results: Mutex<Vec<Option<Outcome>>> = Mutex::new(vec![None; branches.len()]);
-    let shared = SharedProfiles::default();
     let worker = |me: usize, poll: &dyn Fn() -> bool| -> u64 {
         let current = Cell::new(usize::MAX);
         let own_stop = || pool.poll(poll() || packed_at.load(Relaxed) < current.get());
-        let mut s = Search::new(items, w, d, &own_stop).sharing(&shared);
+        let mut s = Search::new(items, w, d, &own_stop);
         while let Some(c) = pool.take(me).filter(|&c| c < packed_at.load(Relaxed)) {
             current.set(c);
             let r = s.run_task(&branches[c]);
@@ -436,9 +435,6 @@ pub(super) struct Best<'a> {
     /// and its first packing of that score.
     scores: Vec<AtomicU64>,
     found: Mutex<Vec<Option<Scored>>>,
-    /// The dead profiles every search of this enumeration keeps: its threads', and the pilot's
-    /// for the rest of it.
-    shared: SharedProfiles,
 }
 
 impl<'a> Best<'a> {
@@ -468,7 +464,6 @@ impl<'a> Best<'a> {
             done: (0..tasks.len()).map(|_| AtomicBool::new(false)).collect(),
             root_nodes: root.nodes,
             tasks,
-            shared: SharedProfiles::default(),
         }
     }
 
@@ -513,7 +508,6 @@ impl<'a> Best<'a> {
             Some(&bound),
             self.far,
         )
-        .sharing(&self.shared)
         .metered(meter);
         while let Some(c) = next() {
             current.set(c);

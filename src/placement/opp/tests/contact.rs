@@ -2,7 +2,6 @@
 //! same best packing on any number of threads and in any order of its tasks.
 
 use super::super::faces::{restrict, Faces};
-use super::super::search::SharedProfiles;
 use super::super::threads::{best_packing_piloted, piloted_on, Best};
 use super::*;
 use std::cell::Cell;
@@ -481,45 +480,4 @@ fn footprints_that_cannot_beat_are_left_out_exactly() {
         only > 100 && nothing > 100 && all > 100,
         "{only} restricted, {nothing} with nothing to beat it, {all} kept whole"
     );
-}
-
-/// Dead profiles shared between searches of one box change no answer and are used: on random
-/// boxes near their area, a second enumeration that starts with the profiles the first one
-/// recorded finds the same best contact and packing, in fewer nodes on many boxes (none more).
-#[test]
-fn shared_profiles_keep_the_best_packing() {
-    let mut rng = Lcg(83);
-    let never = || false;
-    let (mut fewer, mut compared) = (0, 0);
-    for (case, (items, w, d, far)) in near_their_area(&mut rng, 300, (5, 3), (4, 3)).iter().enumerate() {
-        let shared = SharedProfiles::default();
-        let mut runs = Vec::new();
-        for _ in 0..2 {
-            let bound = Cell::new(0.0);
-            let mut best: Option<Scored> = None;
-            let mut visit = |p: &[Pos]| {
-                if let Some(c) = contact_if_stable(items, p, (*w, *d), *far).filter(|&c| c > bound.get() + 1e-9) {
-                    bound.set(c);
-                    best = Some((c, p.to_vec()));
-                }
-                false
-            };
-            let mut s = Search::enumerator(items, *w, *d, &never, &mut visit, Some(&bound), *far).sharing(&shared);
-            assert!(matches!(s.run(), Outcome::Infeasible));
-            let nodes = s.nodes;
-            drop(s);
-            runs.push((best, nodes));
-        }
-        let what = format!("case {case}: {items:?} in {w} × {d}, far {far:?}");
-        assert_eq!(runs[0].0, runs[1].0, "{what}");
-        assert_eq!(
-            runs[0].0,
-            along(items, *w, *d, *far, &|p| contact_if_stable(items, p, (*w, *d), *far)),
-            "{what}"
-        );
-        assert!(runs[1].1 <= runs[0].1, "{what}: {} then {} nodes", runs[0].1, runs[1].1);
-        fewer += (runs[1].1 < runs[0].1) as u32;
-        compared += runs[0].0.is_some() as u32;
-    }
-    assert!(fewer > 50 && compared > 150, "{fewer} fewer, {compared} compared");
 }
