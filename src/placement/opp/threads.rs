@@ -223,7 +223,8 @@ pub type Scored = (f64, Vec<Pos>);
 /// y-phase more than one complete x-assignment per 100 nodes (the x-phase lets through what
 /// the y-phase must refute one by one, and nothing remembers those), it runs three times as
 /// many again; if it has not finished by then and the rate is still above that, the other
-/// axis's enumeration takes over. Above 1.8 times that rate it takes over at once. Otherwise this one goes on where the pilot stopped.
+/// axis's enumeration takes over (at once when the first 2¹⁶ nodes came above 1.8 times that
+/// rate). Otherwise this one goes on where the pilot stopped.
 ///
 /// The same answer on any number of threads: the pilot runs on one thread and polls its
 /// budget every 1,024 nodes, so the axis is chosen alike; the answer is then the first
@@ -401,11 +402,11 @@ const PILOT_NODES: u64 = 1 << 16;
 const Y_RATE: f64 = 0.01;
 
 /// How many times [`Y_RATE`] a first pilot must exceed for the box to turn without the three
-/// times longer second pilot (docs/algorithms.md, *The axis rule, counted in x-assignments*).
-/// After the footprint combinations, the first pilots of the n16, n20 and forty generated
-/// files that the second pilot confirmed came to 1,281 … 2,419 complete x-assignments per
-/// 2¹⁶ nodes, and those it sent back along the first axis (their box finished within it) to
-/// 730 … 1,002.
+/// times longer second pilot (docs/algorithms.md, *A first pilot far above the rate turns at
+/// once*). After the footprint combinations, the first pilots of the n16, n20 and twenty
+/// generated files that the second pilot confirmed came to 1,281 … 2,419 complete
+/// x-assignments per 2¹⁶ nodes, and those it sent back along the first axis (their box
+/// finished within it) to 730 … 1,002.
 const SURE: f64 = 1.8;
 
 /// Scores closer than this are ties (contact lengths are sums of sizes).
