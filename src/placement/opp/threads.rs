@@ -243,24 +243,38 @@ pub fn best_packing(
     meter: Option<&Cell<u64>>,
     threads: usize,
 ) -> (Option<Scored>, bool, u64, f64) {
-    let (found, complete, nodes, _, open) = best_packing_piloted(
-        items,
-        w,
-        d,
-        stop,
-        score,
-        to_beat,
-        far,
-        meter,
-        threads,
-        (PILOT_NODES, Y_RATE),
-    );
-    (found, complete, nodes, open)
+    let to_beat = to_beat.max(0.0);
+    let pilot = (PILOT_NODES, Y_RATE);
+    match faces::restrict(items, w, d, to_beat, far, TIE) {
+        Faces::All => {
+            let (found, complete, nodes, _, open) =
+                best_packing_piloted(items, w, d, stop, score, to_beat, far, meter, threads, pilot);
+            (found, complete, nodes, open)
+        }
+        // No footprints with sides enough: nothing beats it, and nothing is left open.
+        Faces::Nothing => (None, true, 0, f64::NEG_INFINITY),
+        Faces::Only(kept) => {
+            let score_kept = |pos: &[Pos]| score(&kept.back(pos));
+            let (found, complete, nodes, _, open) = best_packing_piloted(
+                &kept.items,
+                w,
+                d,
+                stop,
+                &score_kept,
+                to_beat,
+                far,
+                meter,
+                threads,
+                pilot,
+            );
+            (found.map(|(c, pos)| (c, kept.back(&pos))), complete, nodes, open)
+        }
+    }
 }
 
-/// [`best_packing`] with a pilot of `budget` nodes that turns above `rate` complete
-/// x-assignments per node; also says whether it turned to the other axis (before the open
-/// bound).
+/// [`best_packing`] with every footprint of `items` and a pilot of `budget` nodes that turns
+/// above `rate` complete x-assignments per node; also says whether it turned to the other axis
+/// (before the open bound).
 #[allow(clippy::too_many_arguments)] // best_packing's, and the pilot's budget and rate
 pub(super) fn best_packing_piloted(
     items: &[Item],
@@ -275,49 +289,6 @@ pub(super) fn best_packing_piloted(
     (budget, rate): (u64, f64),
 ) -> (Option<Scored>, bool, u64, bool, f64) {
     let to_beat = to_beat.max(0.0);
-    match faces::restrict(items, w, d, to_beat, far, TIE) {
-        Faces::All => piloted_on(items, w, d, stop, score, to_beat, far, meter, threads, (budget, rate)),
-        // No footprints with sides enough: nothing beats it, and nothing is left open.
-        Faces::Nothing => (None, true, 0, false, f64::NEG_INFINITY),
-        Faces::Only(kept) => {
-            let score_kept = |pos: &[Pos]| score(&kept.back(pos));
-            let (found, complete, nodes, turned, open) = piloted_on(
-                &kept.items,
-                w,
-                d,
-                stop,
-                &score_kept,
-                to_beat,
-                far,
-                meter,
-                threads,
-                (budget, rate),
-            );
-            (
-                found.map(|(c, pos)| (c, kept.back(&pos))),
-                complete,
-                nodes,
-                turned,
-                open,
-            )
-        }
-    }
-}
-
-/// [`best_packing_piloted`] with every footprint of `items` (`to_beat` at least 0).
-#[allow(clippy::too_many_arguments)] // best_packing_piloted's
-pub(super) fn piloted_on(
-    items: &[Item],
-    w: f64,
-    d: f64,
-    stop: &dyn Fn() -> bool,
-    score: &(dyn Fn(&[Pos]) -> Option<f64> + Sync),
-    to_beat: f64,
-    far: [bool; 2],
-    meter: Option<&Cell<u64>>,
-    threads: usize,
-    (budget, rate): (u64, f64),
-) -> (Option<Scored>, bool, u64, bool, f64) {
     if items.len() < 2 {
         let bound = Cell::new(to_beat);
         let mut best = None;
