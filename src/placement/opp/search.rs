@@ -65,6 +65,15 @@ type Profile = (u32, u32);
 /// Dead profiles by (placed set, position), as [`Search`] keeps them.
 type Profiles = HashMap<(u64, i32), Vec<Profile>, BuildHasherDefault<FxHasher>>;
 
+/// The profiles a search recorded dead at any bound, handed to a later search of the same
+/// box ([`Search::take_dead_profiles`]).
+#[derive(Default)]
+pub(super) struct DeadProfiles {
+    lists: [Profiles; 2],
+    len: usize,
+    arena: Vec<(i32, i32)>,
+}
+
 /// The entries of profile `p` in `arena`.
 fn in_arena(arena: &[(i32, i32)], (start, len): Profile) -> &[(i32, i32)] {
     &arena[start as usize..(start + len) as usize]
@@ -518,6 +527,28 @@ impl<'a> Search<'a> {
     /// is lower; those dead at any bound stay.
     pub(super) fn forget_bounded_memo(&mut self) {
         self.dead.clear();
+    }
+
+    /// The profiles this search recorded dead at any bound (its own and its probes'), taken
+    /// out of it, for a later search of the same items in the same box
+    /// ([`Self::with_dead_profiles`]).
+    pub(super) fn take_dead_profiles(&mut self) -> DeadProfiles {
+        DeadProfiles {
+            lists: std::mem::take(&mut self.dominant),
+            len: std::mem::take(&mut self.dominant_len),
+            arena: std::mem::take(&mut self.arena),
+        }
+    }
+
+    /// Start from the profiles an earlier search of the same items, box and kind (decision or
+    /// enumeration) recorded dead at any bound. Whether a state is dead that way depends on the
+    /// state alone (no complete x-assignment extends it), not on the search that found it, its
+    /// tasks or its contact bound, so they cut only subtrees without a packing here too.
+    pub(super) fn with_dead_profiles(mut self, dead: DeadProfiles) -> Self {
+        self.dominant = dead.lists;
+        self.dominant_len = dead.len;
+        self.arena = dead.arena;
+        self
     }
 
     /// Where every item is now.

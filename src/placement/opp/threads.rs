@@ -2,7 +2,7 @@
 //! from the root), which threads that each keep a search and its memo take in ranges.
 
 use super::faces::{self, Faces};
-use super::search::Step;
+use super::search::{DeadProfiles, Step};
 use super::{Item, Outcome, Pos, Search};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::Relaxed};
@@ -407,6 +407,10 @@ pub(super) struct Best<'a> {
     /// and its first packing of that score.
     scores: Vec<AtomicU64>,
     found: Mutex<Vec<Option<Scored>>>,
+    /// The dead profiles of the pilots, handed on from one to the next and then to the first
+    /// thread of the rest (the twenty-object set on one thread: 16.69 M nodes in both stages
+    /// with a fresh memo per search, 16.15 M handing them on).
+    heirloom: Mutex<DeadProfiles>,
 }
 
 impl<'a> Best<'a> {
@@ -436,6 +440,7 @@ impl<'a> Best<'a> {
             done: (0..tasks.len()).map(|_| AtomicBool::new(false)).collect(),
             root_nodes: root.nodes,
             tasks,
+            heirloom: Mutex::default(),
         }
     }
 
@@ -449,12 +454,14 @@ impl<'a> Best<'a> {
 
     /// One thread's work: the tasks `next` hands out, in any order, with one search and its
     /// memo; `poll` is its stop, and `meter` is kept at the nodes so far at each poll. Returns
-    /// the nodes visited and the complete x-assignments handed to the y-phase.
+    /// the nodes visited and the complete x-assignments handed to the y-phase. An `heir`
+    /// starts from the dead profiles the last heir left and leaves its own for the next one.
     pub(super) fn work(
         &self,
         poll: &dyn Fn() -> bool,
         next: &mut dyn FnMut() -> Option<usize>,
         meter: Option<&Cell<u64>>,
+        heir: bool,
     ) -> (u64, u64) {
         let current = Cell::new(0usize);
         let bound = Cell::new(self.to_beat);
@@ -481,6 +488,10 @@ impl<'a> Best<'a> {
             self.far,
         )
         .metered(meter);
+        let heirloom = || self.heirloom.lock().expect("no thread panics holding it");
+        if heir {
+            s = s.with_dead_profiles(std::mem::take(&mut *heirloom()));
+        }
         while let Some(c) = next() {
             current.set(c);
             let b = self.bound_of(c);
@@ -492,6 +503,9 @@ impl<'a> Best<'a> {
             if matches!(s.run_task(&self.tasks[c]), Outcome::Infeasible) {
                 self.done[c].store(true, Relaxed);
             }
+        }
+        if heir {
+            *heirloom() = s.take_dead_profiles();
         }
         (s.nodes, s.yleaves)
     }
@@ -514,7 +528,7 @@ impl<'a> Best<'a> {
             from = c + 1;
             Some(c)
         };
-        self.work(&spent, &mut next, Some(&count))
+        self.work(&spent, &mut next, Some(&count), true)
     }
 
     /// The tasks not done yet on `threads` threads, until the end or `stop`. Returns the nodes
@@ -526,7 +540,7 @@ impl<'a> Best<'a> {
         let pool = Pool::new(&self.tasks, threads);
         let worker = |me: usize, poll: &dyn Fn() -> bool| {
             let mut next = || std::iter::from_fn(|| pool.take(me)).find(|&c| !self.done[c].load(Relaxed));
-            self.work(&|| pool.poll(poll()), &mut next, None).0
+            self.work(&|| pool.poll(poll()), &mut next, None, me == 0).0
         };
         pool.run(threads, stop, meter, &worker)
     }
