@@ -61,8 +61,8 @@ pub(super) struct Kept {
     /// Per item, per kept footprint: its index in the item's `opts`.
     from: Vec<Vec<usize>>,
     /// Whether objects of different classes became one class (their footprints left the
-    /// same), so that the enumeration meets the packings in another order.
-    #[cfg(test)]
+    /// same), so that the enumeration meets the packings in another order (read by tests).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(super) merged: bool,
 }
 
@@ -202,12 +202,9 @@ pub(super) fn restrict(items: &[Item], w: f64, d: f64, to_beat: f64, far: [bool;
             merged = true;
         }
     }
-    #[cfg(not(test))]
-    let _ = merged;
     Faces::Only(Kept {
         items: kept,
         from,
-        #[cfg(test)]
         merged,
     })
 }
