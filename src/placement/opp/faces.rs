@@ -192,12 +192,8 @@ pub(super) fn restrict(items: &[Item], w: f64, d: f64, to_beat: f64, far: [bool;
         });
         if let Some((class, o)) = to {
             // Its footprints in the other class's order, so that an index means one rectangle.
-            let (opts, idx) = (&kept[i].opts, &from[i]);
-            let (opts, idx) = (
-                o.iter().map(|&p| opts[p]).collect(),
-                o.iter().map(|&p| idx[p]).collect(),
-            );
-            (kept[i].opts, from[i]) = (opts, idx);
+            kept[i].opts = o.iter().map(|&p| kept[i].opts[p]).collect();
+            from[i] = o.iter().map(|&p| from[i][p]).collect();
             kept[i].class = class;
             merged = true;
         }

@@ -215,7 +215,9 @@ pub type Scored = (f64, Vec<Pos>);
 /// Footprints that no combination able to beat `to_beat` uses are left out first (their sides
 /// and the far walls bound the contact, and their areas must fit the box: docs/algorithms.md,
 /// *Footprint combinations that can beat the incumbent*); the enumeration keeps its order over
-/// the rest, so the answer is the same.
+/// the rest, so the answer is the same, except that objects of different classes left the
+/// same footprints become one class: then the score is the same, and the packing may be
+/// another of that score (objects swapped, or another met first).
 ///
 /// Either axis may be the x-phase's: the packings and their scores are the same up to
 /// transposition, but the cost is not (docs/algorithms.md, *Which axis the x-phase takes*).
