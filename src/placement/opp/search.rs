@@ -212,6 +212,11 @@ pub struct Search<'a> {
     xsides: f64,
     /// Left sides of placed items that cannot be in full contact, summed (x-phase).
     ldef: f64,
+    /// Whether the y-phase bounds the far walls' contact by what the x-assignment leaves them
+    /// (`search/yphase.rs`; off only in tests) rather than counting it in full, and at how many
+    /// y-phase roots it took contact off and the root was cut.
+    pub(super) walls_on: bool,
+    pub(super) walls_cuts: u64,
     /// The free depth of the columns just left of `t` (0 at `t = 0`), and `ldef` when the
     /// x-phase moved to `t`: see [`Self::rows_lost_ahead`].
     hprev: f64,
@@ -221,6 +226,10 @@ pub struct Search<'a> {
     starts_at_t: f64,
     /// Bottom sides of items placed in the y-phase not in contact, summed.
     ydef: f64,
+    /// The least width of the columns under whose bottoms every packing of the current
+    /// x-assignment keeps gaps (`search/stacks.rs`, found at the y-phase's root): a bottom loss
+    /// no path below avoids.
+    ygaps: f64,
     /// Contact bound of the current complete x-assignment.
     ub_x: f64,
     /// Branches cut by the contact bound.
@@ -419,6 +428,8 @@ impl<'a> Search<'a> {
             far: [false; 2],
             xsides,
             ldef: 0.0,
+            walls_on: true,
+            walls_cuts: 0,
             hprev: 0.0,
             ldef_at: 0.0,
             starts_at_t: 0.0,
@@ -440,6 +451,7 @@ impl<'a> Search<'a> {
             stacks_on: true,
             stacks: stacks::Stacks::default(),
             stack_cuts: 0,
+            ygaps: 0.0,
             sides: sides::Sides::new(items, w, d, t),
             sides_on: true,
             sides_cuts: 0,

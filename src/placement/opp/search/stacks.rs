@@ -37,10 +37,10 @@ pub(in crate::placement::opp) struct Stacks {
 type Columns = [(f64, Vec<usize>)];
 
 impl Stacks {
-    /// Whether every packing keeps gaps under bottoms in columns of `cols` at least `below`
-    /// wide in all, the items `steps` deep (grid steps) in a box `depth` steps deep (at most
-    /// 63). `false` also when the search for such columns runs past [`CALLS`].
-    pub(super) fn gaps_at_least(&mut self, cols: &Columns, steps: &[u32], depth: u32, below: f64) -> bool {
+    /// The least width, capped at `below`, of the columns of `cols` under whose bottoms every
+    /// packing keeps gaps, the items `steps` deep (grid steps) in a box `depth` steps deep (at
+    /// most 63): 0 when the search for such columns runs past [`CALLS`].
+    pub(super) fn least_gaps(&mut self, cols: &Columns, steps: &[u32], depth: u32, below: f64) -> f64 {
         debug_assert!(depth <= 63 && cols.len() <= 128);
         self.sums.clear();
         self.room.clear();
@@ -53,41 +53,48 @@ impl Stacks {
         }
         self.room.sort_by(|&a, &b| cols[a].0.total_cmp(&cols[b].0));
         if self.pass(cols, steps, depth, 0) {
-            return false;
+            return 0.0;
         }
-        let mut calls = 1;
-        !self.gaps_pass(cols, steps, depth, (0, 0, 0.0), below, &mut calls)
+        let (mut calls, mut best) = (1, below);
+        if self.gaps_least(cols, steps, depth, (0, 0, 0.0), &mut best, &mut calls) {
+            best
+        } else {
+            0.0
+        }
     }
 
-    /// Whether some set of columns with room, from `room[from]` on, added to `skip` and less
-    /// than `below` wide with it (`width` so far), lets the other columns stack without a gap;
-    /// `true` also once `calls` passes [`CALLS`] (the search gives up).
-    fn gaps_pass(
+    /// The least width, below `best`, of a set of columns with room, from `room[from]` on,
+    /// which added to `skip` (`width` so far) lets the other columns stack without a gap, into
+    /// `best`; `false` once `calls` passes [`CALLS`] (the search gives up).
+    fn gaps_least(
         &mut self,
         cols: &Columns,
         steps: &[u32],
         depth: u32,
         (from, skip, width): (usize, u128, f64),
-        below: f64,
+        best: &mut f64,
         calls: &mut u32,
     ) -> bool {
         for k in from..self.room.len() {
             let c = self.room[k];
             let w = width + cols[c].0;
-            // Narrowest first: no later column fits either.
-            if w >= below {
+            // Narrowest first: no later column is narrower.
+            if w >= *best {
                 break;
             }
             *calls += 1;
             if *calls > CALLS {
-                return true;
+                return false;
             }
             let s = skip | 1 << c;
-            if self.pass(cols, steps, depth, s) || self.gaps_pass(cols, steps, depth, (k + 1, s, w), below, calls) {
-                return true;
+            // A set that passes is the narrowest with this prefix: those it is in are wider.
+            if self.pass(cols, steps, depth, s) {
+                *best = w;
+            } else if !self.gaps_least(cols, steps, depth, (k + 1, s, w), best, calls) {
+                return false;
             }
         }
-        false
+        true
     }
 
     /// Whether the propagation over the columns not in `skip` leaves every item a height.
@@ -154,14 +161,13 @@ impl Stacks {
 }
 
 impl Search<'_> {
-    /// Whether every packing of the current x-assignment keeps gaps under bottoms in columns
-    /// at least `below` wide in all ([`Stacks::gaps_at_least`] on `ycols`); `false` when the
-    /// holes bound's grid is off.
-    pub(super) fn gaps_at_least(&mut self, below: f64) -> bool {
+    /// The least width, capped at `below`, of the columns under whose bottoms every packing of
+    /// the current x-assignment keeps gaps ([`Stacks::least_gaps`] on `ycols`); 0 when the holes
+    /// bound's grid is off.
+    pub(super) fn least_gaps(&mut self, below: f64) -> f64 {
         let Some(depth) = self.yholes.grid_depth() else {
-            return false;
+            return 0.0;
         };
-        self.stacks
-            .gaps_at_least(&self.ycols, self.yholes.steps(), depth, below)
+        self.stacks.least_gaps(&self.ycols, self.yholes.steps(), depth, below)
     }
 }

@@ -145,9 +145,12 @@ impl Search<'_> {
                 .collect();
         }
         self.ycols.clear();
+        // Widths where the items stack to less than the box's depth.
+        let mut room = 0.0;
         if self.cbound.is_some() {
             let mut edges: Vec<f64> = (0..n)
                 .flat_map(|i| [self.x0[i], self.x0[i] + self.ydims[i][0]])
+                .chain([self.w])
                 .collect();
             edges.sort_by(f64::total_cmp);
             edges.dedup_by(|a, b| *a - *b <= t);
@@ -155,20 +158,39 @@ impl Search<'_> {
                 let cover: Vec<usize> = (0..n)
                     .filter(|&j| self.x0[j] <= e[0] + t && self.x0[j] + self.ydims[j][0] >= e[1] - t)
                     .collect();
+                if cover.iter().map(|&j| self.ydims[j][1]).sum::<f64>() < self.d - t {
+                    room += e[1] - e[0];
+                }
                 if !cover.is_empty() {
                     self.ycols.push((e[1] - e[0], cover));
                 }
             }
         }
         self.prepare_holes();
+        // The far walls, where they count: the right one touches exactly the items ending at
+        // it, which the x-assignment fixes; the top one misses every column with room, or its
+        // items keep a gap, so each such column loses its width at the top or at a bottom.
         self.ub_x = self.contact_ub();
+        if self.walls_on && self.far[0] {
+            let at_wall: f64 = (0..n)
+                .filter(|&i| self.x0[i] + self.ydims[i][0] >= self.w - t)
+                .map(|i| self.ydims[i][1])
+                .sum();
+            self.ub_x -= max(self.d - at_wall, 0.0);
+        }
         self.ydef = 0.0;
+        self.ygaps = if self.walls_on && self.far[1] { room } else { 0.0 };
         self.ypast_ok = false;
         // Clearing touches every bucket of what the map once held, empty or not.
         if !self.ymemo.is_empty() {
             self.ymemo.clear();
         }
-        self.yphase(&mut done, &mut top, 0.0, 0, 0)
+        // Counted where the far walls' bound took contact off and the root was cut.
+        let walls = self.ub_x < self.contact_ub() || self.ygaps > 0.0;
+        let nodes = self.nodes;
+        let found = self.yphase(&mut done, &mut top, 0.0, 0, 0);
+        self.walls_cuts += (walls && !found && self.nodes == nodes + 1) as u64;
+        found
     }
 
     /// Items go in the order of their bottom edges, each onto the highest top of the placed
@@ -216,7 +238,7 @@ impl Search<'_> {
             };
             lost = l;
             if let Some(cb) = self.cbound {
-                if self.ub_x - self.ydef - lost <= cb.get() + 1e-9 {
+                if self.ub_x - max(self.ydef, self.ygaps) - lost <= cb.get() + 1e-9 {
                     self.cpruned += 1;
                     return false;
                 }
@@ -283,17 +305,26 @@ impl Search<'_> {
                     }
                 }
             }
-            let margin = self.ub_x - self.ydef - lost - wells - cb.get();
+            // The bottoms lost: those placed and the wells, or the gaps the root proved.
+            let margin = self.ub_x - lost - max(self.ydef + wells, self.ygaps) - cb.get();
             if margin <= 1e-9 {
                 self.cpruned += 1;
                 return false;
             }
-            // At the root, whether the columns can stack without gaps at all (`search/stacks.rs`).
-            if placed == 0 && self.stacks_on && self.gaps_at_least(margin - 1e-9) {
-                self.stack_cuts += 1;
-                self.cpruned += 1;
-                return false;
+            // At the root, the columns that must keep gaps at all (`search/stacks.rs`): their
+            // widths are lost on every path below, whatever the bottoms placed lose.
+            if placed == 0 && self.stacks_on {
+                let budget = self.ub_x - lost - cb.get();
+                self.ygaps = max(self.ygaps, self.least_gaps(budget - 1e-9));
+                if self.ygaps >= budget - 1e-9 {
+                    self.stack_cuts += 1;
+                    self.cpruned += 1;
+                    return false;
+                }
             }
+            // The holes are new bottoms lost beyond the wells and those placed, not beyond the
+            // root's gaps, which may lie in the same columns.
+            let margin = self.ub_x - self.ydef - lost - wells - cb.get();
             if holes && margin <= could + 1e-9 {
                 match self.holes_lost(done, row, last_y) {
                     Some(h) if margin - h > 1e-9 => {}

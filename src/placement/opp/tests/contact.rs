@@ -303,7 +303,9 @@ fn probes_cut_only_states_no_packing_completes() {
 #[test]
 fn the_holes_bound_keeps_every_packing_above_the_bound() {
     let cases = near_their_area(&mut Lcg(53), 300, (6, 4), (6, 4));
-    same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.5), &|s, on| s.holes_on = on, &|s| s.hole_cuts);
+    // The far walls' bound cuts much of what the holes bound would: off here.
+    let set = |s: &mut Search, on: bool| (s.holes_on, s.walls_on) = (on, false);
+    same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.5), &set, &|s| s.hole_cuts);
 }
 
 /// The gapless-stacks bound cuts only x-assignments that hold no packing above the bound: the
@@ -313,11 +315,31 @@ fn the_holes_bound_keeps_every_packing_above_the_bound() {
 #[test]
 fn the_stacks_bound_keeps_every_packing_above_the_bound() {
     let mut rng = Lcg(67);
-    let set = |s: &mut Search, on: bool| s.stacks_on = on;
+    // The far walls' bound cuts much of what the stacks bound would: off here.
+    let set = |s: &mut Search, on: bool| (s.stacks_on, s.walls_on) = (on, false);
     let cases = near_their_area(&mut rng, 300, (6, 4), (6, 4));
     same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.25), &set, &|s| s.stack_cuts);
     let cases = near_their_area(&mut rng, 100, (6, 4), (6, 4));
     same_packings_above_the_bound(&cases, ([2.5, 3.5], 0.25), &set, &|s| s.stack_cuts);
+}
+
+/// The far walls' bound (the right wall touches only the items ending at it; where the top
+/// wall counts, each column with room loses its width at the top or at a bottom) cuts only
+/// branches that hold no packing above the bound: the same comparison as
+/// [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without it, on 300
+/// instances of 6 to 9 items, every box reaching one far wall or both, under bounds 0.5 or 1.5
+/// below the best, and 100 more 2.5 or 3.5 below it.
+#[test]
+fn the_far_walls_bound_keeps_every_packing_above_the_bound() {
+    let mut rng = Lcg(71);
+    let set = |s: &mut Search, on: bool| s.walls_on = on;
+    let walls = [[true, false], [false, true], [true, true]];
+    let mut cases = near_their_area(&mut rng, 300, (6, 4), (6, 4));
+    cases.iter_mut().enumerate().for_each(|(k, c)| c.3 = walls[k % 3]);
+    same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.25), &set, &|s| s.walls_cuts);
+    let mut cases = near_their_area(&mut rng, 100, (6, 4), (6, 4));
+    cases.iter_mut().enumerate().for_each(|(k, c)| c.3 = walls[k % 3]);
+    same_packings_above_the_bound(&cases, ([2.5, 3.5], 0.25), &set, &|s| s.walls_cuts);
 }
 
 /// The y-phase's memo cuts only states whose completions hold no packing above the bound: the
