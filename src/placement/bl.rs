@@ -166,11 +166,33 @@ pub fn bl_position(placed: &[Rect], fw: f64, fd: f64, w: f64, d: f64) -> Option<
     let mut ys: Vec<f64> = std::iter::once(0.0).chain(placed.iter().map(|p| p.y1)).collect();
     xs.sort_by(f64::total_cmp);
     ys.sort_by(f64::total_cmp);
+    xs.dedup();
+    ys.dedup();
     let floor = Rect::new(0.0, 0.0, w, d);
-    let free = |r: &Rect| r.inside(&floor) && placed.iter().all(|p| !p.overlaps(r));
-    ys.iter()
-        .flat_map(|&y| xs.iter().map(move |&x| Rect::new(x, y, fw, fd)))
-        .find(free)
+    // Per row, only the rectangles overlapping it in y can overlap a candidate there (the y
+    // half of `Rect::overlaps`, so the answer is the same): the warm start of the exact
+    // placement tries 256 orders, and checking every placed rectangle at every corner point was
+    // most of its time.
+    let mut band: Vec<&Rect> = Vec::with_capacity(placed.len());
+    for &y in &ys {
+        let row = Rect::new(0.0, y, fw, fd);
+        if !row.inside(&floor) {
+            // Rows only rise: no later one fits either.
+            break;
+        }
+        band.clear();
+        band.extend(placed.iter().filter(|p| p.y0 < row.y1 - EPS && row.y0 < p.y1 - EPS));
+        for &x in &xs {
+            let r = Rect::new(x, y, fw, fd);
+            if !r.inside(&floor) {
+                break;
+            }
+            if band.iter().all(|p| !p.overlaps(&r)) {
+                return Some(r);
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]
