@@ -8,10 +8,10 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 mod bounds;
-mod holes;
 mod probe;
 mod sides;
 mod stacks;
+mod ygrid;
 mod ymemo;
 #[cfg(test)]
 pub(super) use probe::left_out as probe_left_out;
@@ -253,16 +253,17 @@ pub struct Search<'a> {
     /// The current x-assignment's columns, between consecutive item edges (enumeration under a
     /// contact bound only): width and the items covering it.
     ycols: Vec<(f64, Vec<usize>)>,
-    /// The holes bound ([`holes`]): whether it is on (off only in tests), its state for the
-    /// current x-assignment, and how many branches it cut.
-    pub(super) holes_on: bool,
-    yholes: holes::Holes,
-    pub(super) hole_cuts: u64,
+    /// The y-phase's grid ([`ygrid`]) for the current x-assignment.
+    ygrid: ygrid::YGrid,
     /// The gapless-stacks bound at the y-phase's root ([`stacks`]): whether it is on (off only
     /// in tests), its scratch, and how many x-assignments it cut.
     pub(super) stacks_on: bool,
     stacks: stacks::Stacks,
     pub(super) stack_cuts: u64,
+    /// The gapless-stacks bound below the root: whether it is on (off only in tests), and how
+    /// many y-nodes it cut.
+    pub(super) ystacks_on: bool,
+    pub(super) ystack_cuts: u64,
     /// The unplaced items' footprints as steps of area and sides ([`sides`]), whether the
     /// x-phase's contact cut uses them (off only in tests), and how many nodes it cut so.
     sides: sides::Sides,
@@ -445,12 +446,12 @@ impl<'a> Search<'a> {
             ytwins: vec![Vec::new(); n],
             yfloor: Vec::new(),
             ycols: Vec::new(),
-            holes_on: true,
-            yholes: holes::Holes::default(),
-            hole_cuts: 0,
+            ygrid: ygrid::YGrid::default(),
             stacks_on: true,
             stacks: stacks::Stacks::default(),
             stack_cuts: 0,
+            ystacks_on: true,
+            ystack_cuts: 0,
             ygaps: 0.0,
             sides: sides::Sides::new(items, w, d, t),
             sides_on: true,

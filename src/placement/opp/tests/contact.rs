@@ -295,21 +295,25 @@ fn probes_cut_only_states_no_packing_completes() {
     );
 }
 
-/// The holes bound cuts only branches that hold no packing above the bound: on random
-/// instances of 6 to 9 items (some lying on any face) near their area, some boxes reaching the
-/// far walls, the enumeration under a fixed contact bound (the best contact less 0.5 or 1.5;
-/// sizes are integers) visits the very same BL-stable packings above it with and without the
-/// bound (the first 2,000 of them), and the bound cuts in many of them.
+/// The gapless-stacks bound below the y-phase's root cuts only branches that hold no packing
+/// above the bound: on random instances of 6 to 9 items (some lying on any face) near their
+/// area, some boxes reaching the far walls, the enumeration under a fixed contact bound (the
+/// best contact less 0.5 or 1.5; sizes are integers) visits the very same BL-stable packings
+/// above it with and without the bound (the first 2,000 of them), and the bound cuts in many
+/// of them; and on 100 more 2.5 or 3.5 below the best.
 #[test]
-fn the_holes_bound_keeps_every_packing_above_the_bound() {
-    let cases = near_their_area(&mut Lcg(53), 300, (6, 4), (6, 4));
-    // The far walls' bound cuts much of what the holes bound would: off here.
-    let set = |s: &mut Search, on: bool| (s.holes_on, s.walls_on) = (on, false);
-    same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.5), &set, &|s| s.hole_cuts);
+fn the_stacks_bound_below_the_root_keeps_every_packing_above_the_bound() {
+    let mut rng = Lcg(53);
+    // The far walls' bound and the root's stacks cut much of what this bound would: off here.
+    let set = |s: &mut Search, on: bool| (s.ystacks_on, s.stacks_on, s.walls_on) = (on, false, false);
+    let cases = near_their_area(&mut rng, 300, (6, 4), (6, 4));
+    same_packings_above_the_bound(&cases, ([0.5, 1.5], 0.5), &set, &|s| s.ystack_cuts);
+    let cases = near_their_area(&mut rng, 100, (6, 4), (6, 4));
+    same_packings_above_the_bound(&cases, ([2.5, 3.5], 0.25), &set, &|s| s.ystack_cuts);
 }
 
 /// The gapless-stacks bound cuts only x-assignments that hold no packing above the bound: the
-/// same comparison as [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without
+/// same comparison as [`the_stacks_bound_below_the_root_keeps_every_packing_above_the_bound`], with and without
 /// it, on 300 instances of 6 to 9 items under bounds 0.5 or 1.5 below the best, and 100 more
 /// 2.5 or 3.5 below it (where a gap in one column of width 1 no longer closes the margin).
 #[test]
@@ -326,7 +330,7 @@ fn the_stacks_bound_keeps_every_packing_above_the_bound() {
 /// The far walls' bound (the right wall touches only the items ending at it; where the top
 /// wall counts, each column with room loses its width at the top or at a bottom) cuts only
 /// branches that hold no packing above the bound: the same comparison as
-/// [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without it, on 300
+/// [`the_stacks_bound_below_the_root_keeps_every_packing_above_the_bound`], with and without it, on 300
 /// instances of 6 to 9 items, every box reaching one far wall or both, under bounds 0.5 or 1.5
 /// below the best, and 100 more 2.5 or 3.5 below it.
 #[test]
@@ -343,7 +347,7 @@ fn the_far_walls_bound_keeps_every_packing_above_the_bound() {
 }
 
 /// The y-phase's memo cuts only states whose completions hold no packing above the bound: the
-/// same comparison as [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without
+/// same comparison as [`the_stacks_bound_below_the_root_keeps_every_packing_above_the_bound`], with and without
 /// the memo, on 300 instances of 6 to 9 items and 40 of 7 to 10, under bounds further below the
 /// best (2.5 or 3.5), where more y-states are met again.
 #[test]
@@ -358,7 +362,7 @@ fn the_y_memo_keeps_every_packing_above_the_bound() {
 
 /// The x-phase's bound over the footprints' sides within the free area cuts only branches that
 /// hold no packing above the bound: the same comparison as
-/// [`the_holes_bound_keeps_every_packing_above_the_bound`], with and without it, on 300
+/// [`the_stacks_bound_below_the_root_keeps_every_packing_above_the_bound`], with and without it, on 300
 /// instances of 6 to 9 items (half of them boxes lying on any face, whose footprints differ in
 /// area and sides) under bounds 0.5 or 1.5 below the best, and 100 more 2.5 or 3.5 below it.
 #[test]
