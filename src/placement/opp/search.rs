@@ -3,6 +3,7 @@
 
 use super::dominance::dominated;
 use super::*;
+use smallvec::SmallVec;
 use std::cell::Cell;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -63,7 +64,7 @@ fn low_bits(n: usize) -> u64 {
 type Profile = (u32, u32);
 
 /// Dead profiles by (placed set, position), as [`Search`] keeps them.
-type Profiles = HashMap<(u64, i32), Vec<Profile>, BuildHasherDefault<FxHasher>>;
+type Profiles = HashMap<(u64, i32), SmallVec<[Profile; 2]>, BuildHasherDefault<FxHasher>>;
 
 /// The profiles a search recorded dead at any bound, handed to a later search of the same
 /// box ([`Search::take_dead_profiles`]).
@@ -792,7 +793,7 @@ impl<'a> Search<'a> {
                 let before = list.len();
                 if self.dominance {
                     let arena = &self.arena;
-                    list.retain(|&p| !dominated(in_arena(arena, p), profile));
+                    list.retain(|p| !dominated(in_arena(arena, *p), profile));
                 }
                 self.dominant_len = self.dominant_len + 1 + list.len() - before;
                 list.push(at);
