@@ -12,7 +12,7 @@ was proven infeasible. Symmetry: the largest square in the lower-left quarter of
 contact unless asked (`--contact`: then, in every box of the optimal area and its transpose,
 the largest contact of a BL-stable packing, as pushpack's contact stage finds it).
 
-usage: cpsat_squares.py FROM TO [--workers 2] [--time-limit 60] [--no-cumulative] [--contact]
+usage: cpsat_squares.py FROM TO [--workers 2] [--time-limit 60] [--no-cumulative] [--contact [--no-bl-stable]]
 prints one line per N: N, optimal area, W x D, boxes decided, seconds (wall, whole N); with
 --contact a second line: the best contact (units), whether proven, seconds (its own limit)
 """
@@ -22,7 +22,7 @@ import time
 from ortools.sat.python import cp_model
 
 
-def decide(n, w, d, workers, limit, cumulative, contact=False):
+def decide(n, w, d, workers, limit, cumulative, contact=False, bl_stable=True):
     """True / False when the box is proven feasible / infeasible, None when stopped. With
     `contact`, returns (best contact, proven) for a feasible box instead of True."""
     m = cp_model.CpModel()
@@ -45,7 +45,8 @@ def decide(n, w, d, workers, limit, cumulative, contact=False):
         m.add_cumulative(xs, list(range(1, n + 1)), d)
         m.add_cumulative(ys, list(range(1, n + 1)), w)
     if contact:
-        add_bl_stable(m, n, px, py)
+        if bl_stable:
+            add_bl_stable(m, n, px, py)
         add_contact_objective(m, n, px, py)
     solver = cp_model.CpSolver()
     solver.parameters.num_workers = workers
@@ -113,7 +114,7 @@ def add_contact_objective(m, n, px, py):
     m.maximize(sum(terms))
 
 
-def best_contact(n, area, workers, limit, cumulative):
+def best_contact(n, area, workers, limit, cumulative, bl_stable):
     """The largest contact over the feasible boxes of the optimal area, and whether proven."""
     start = time.monotonic()
     best, proven = None, True
@@ -124,7 +125,7 @@ def best_contact(n, area, workers, limit, cumulative):
         left = limit - (time.monotonic() - start)
         if left <= 0:
             return best, False, time.monotonic() - start
-        r = decide(n, w, d, workers, left, cumulative, contact=True)
+        r = decide(n, w, d, workers, left, cumulative, contact=True, bl_stable=bl_stable)
         if r is None:
             return best, False, time.monotonic() - start
         if r is False:
@@ -135,7 +136,7 @@ def best_contact(n, area, workers, limit, cumulative):
         # pushpack's boxes are transposes too: a w x d packing turned is a d x w one with the
         # same shared boundaries and the wall contacts swapped, so the turned box is searched too
         if w != d:
-            r = decide(n, d, w, workers, max(0.0, limit - (time.monotonic() - start)), cumulative, contact=True)
+            r = decide(n, d, w, workers, max(0.0, limit - (time.monotonic() - start)), cumulative, True, bl_stable)
             if isinstance(r, tuple):
                 best = max(best, r[0])
                 proven &= r[1]
@@ -174,6 +175,7 @@ def main():
     p.add_argument("--time-limit", type=float, default=60.0)
     p.add_argument("--no-cumulative", action="store_true", help="NoOverlap2D alone")
     p.add_argument("--contact", action="store_true", help="then maximise contact in the optimal boxes")
+    p.add_argument("--no-bl-stable", action="store_true", help="contact without SPEC's BL-stability")
     a = p.parse_args()
     for n in range(a.first, a.last + 1):
         area, box, decided, secs = solve(n, a.workers, a.time_limit, not a.no_cumulative)
@@ -182,7 +184,7 @@ def main():
         else:
             print(f"N={n} area={area} box={box[0]}x{box[1]} boxes={decided} {secs:.3f} s", flush=True)
             if a.contact:
-                c, ok, cs = best_contact(n, area, a.workers, a.time_limit, not a.no_cumulative)
+                c, ok, cs = best_contact(n, area, a.workers, a.time_limit, not a.no_cumulative, not a.no_bl_stable)
                 print(f"N={n} contact={c} {'optimal' if ok else 'unproven'} {cs:.3f} s", flush=True)
 
 
