@@ -114,14 +114,18 @@ def add_contact_objective(m, n, px, py):
     m.maximize(sum(terms))
 
 
+def boxes_of_area(n, a):
+    """The boxes W x D of area `a` with W >= D >= N, by increasing D."""
+    for d in range(n, int(a**0.5) + 1):
+        if a % d == 0 and a // d >= d:
+            yield a // d, d
+
+
 def best_contact(n, area, workers, limit, cumulative, bl_stable):
     """The largest contact over the feasible boxes of the optimal area, and whether proven."""
     start = time.monotonic()
     best, proven = None, True
-    for d in range(n, int(area**0.5) + 1):
-        if area % d or area // d < d:
-            continue
-        w = area // d
+    for w, d in boxes_of_area(n, area):
         left = limit - (time.monotonic() - start)
         if left <= 0:
             return best, False, time.monotonic() - start
@@ -151,10 +155,7 @@ def solve(n, workers, limit, cumulative):
     decided = 0
     a = area
     while True:
-        for d in range(n, int(a**0.5) + 1):
-            if a % d or a // d < d:
-                continue
-            w = a // d
+        for w, d in boxes_of_area(n, a):
             left = limit - (time.monotonic() - start)
             if left <= 0:
                 return None, None, decided, time.monotonic() - start
