@@ -1,5 +1,6 @@
 //! Exact placement on consecutive squares (OEIS A038666), in loose and tight containers, with
-//! and without a warm start, and on instances proven infeasible.
+//! and without a warm start, and on instances proven infeasible; their contact optima against
+//! those an independent solver proved.
 
 use pushpack::control::TimeLimit;
 use pushpack::error::Error;
@@ -260,4 +261,93 @@ fn a_stop_in_the_contact_stage_runs_no_milp() {
     assert_eq!((r.subproblems, rep.contact_milp_s), (0, 0.0), "{rep:?}");
     let bound = rep.contact_upper_bound.expect("a bound on the contact not proven");
     assert!(bound >= r.placement.contact_length(&inst));
+}
+
+/// Contact length in units (2 mm squares).
+fn contact_units(inst: &Instance, r: &PlacementResult) -> f64 {
+    r.placement.contact_length(inst) / 0.002
+}
+
+/// The contact stage's optima agree with OR-Tools CP-SAT's, which proved them with its own
+/// model (NoOverlap2D, touch literals, BL-stability as clauses) for N = 8 … 15
+/// (`scripts/cpsat_squares.py 8 15 --contact`, docs/benchmarks.md, *Against CP-SAT*): an
+/// independent check of the contact enumeration, as A038666 is of the area stage.
+#[test]
+fn consecutive_squares_contact_matches_an_independent_solver() {
+    let proven_by_cp_sat = [
+        (8u32, 68.0),
+        (9, 89.0),
+        (10, 108.0),
+        (11, 125.0),
+        (12, 153.0),
+        (13, 175.0),
+        (14, 201.0),
+        (15, 231.0),
+    ];
+    for (n, want) in proven_by_cp_sat {
+        let inst = Instance::parse(&consecutive_squares_toml(n, None), false, "<squares>", None).unwrap();
+        let r = milp::solve(&inst, &no_warm(), &settings(), &TimeLimit::new(120.0)).unwrap();
+        assert!(r.placement.violations(&inst).is_empty(), "n = {n}");
+        assert_eq!(r.status, PlacementStatus::Optimal, "n = {n}");
+        assert!(
+            (contact_units(&inst, &r) - want).abs() < 1e-6,
+            "n = {n}: {}",
+            contact_units(&inst, &r)
+        );
+    }
+}
+
+/// SPEC §4 asks for BL-stable placements, and the contact optimum is over those only: squares
+/// 1 … 16 in their optimal box 56 × 27 have a packing of contact 261 with square 2 over a gap
+/// (CP-SAT's, without the BL-stability constraint), which the placement check rejects; the
+/// solver's proven optimum is 260, and CP-SAT with the constraint finds 260 too.
+#[test]
+fn contact_optimum_is_over_bl_stable_placements() {
+    let inst = Instance::parse(&consecutive_squares_toml(16, None), false, "<squares>", None).unwrap();
+    let r = milp::solve(&inst, &no_warm(), &settings(), &TimeLimit::new(120.0)).unwrap();
+    assert!(r.placement.violations(&inst).is_empty());
+    assert_eq!(r.status, PlacementStatus::Optimal);
+    assert!((units(r.placement.occupied_area()) - 1512.0).abs() < 1e-6);
+    assert!(
+        (contact_units(&inst, &r) - 260.0).abs() < 1e-6,
+        "{}",
+        contact_units(&inst, &r)
+    );
+
+    // (x, y) of squares 1 … 16 in units, CP-SAT's packing without BL-stability.
+    let at = [
+        (22, 19),
+        (38, 13),
+        (38, 7),
+        (41, 7),
+        (23, 15),
+        (22, 20),
+        (38, 0),
+        (14, 19),
+        (14, 10),
+        (13, 0),
+        (45, 0),
+        (28, 15),
+        (0, 0),
+        (0, 13),
+        (23, 0),
+        (40, 11),
+    ];
+    let mut hanging = r.clone();
+    for (t, (x, y)) in hanging.placement.targets.iter_mut().zip(at) {
+        let (w, d) = (t.rect.x1 - t.rect.x0, t.rect.y1 - t.rect.y0);
+        t.rect.x0 = f64::from(x) * 0.002;
+        t.rect.y0 = f64::from(y) * 0.002;
+        t.rect.x1 = t.rect.x0 + w;
+        t.rect.y1 = t.rect.y0 + d;
+    }
+    assert!((units(hanging.placement.occupied_area()) - 1512.0).abs() < 1e-6);
+    assert!(
+        (contact_units(&inst, &hanging) - 261.0).abs() < 1e-6,
+        "{}",
+        contact_units(&inst, &hanging)
+    );
+    let v = hanging.placement.violations(&inst);
+    assert_eq!(v.len(), 1, "{v:?}");
+    assert!(v[0].contains("not BL-stable (nothing on its -y side)"), "{v:?}");
 }
