@@ -4,6 +4,7 @@
 
 use pushpack::control::TimeLimit;
 use pushpack::error::Error;
+use pushpack::geometry::Rect;
 use pushpack::instance::generate::consecutive_squares_toml;
 use pushpack::instance::Instance;
 use pushpack::placement::{milp, PlacementResult, PlacementStatus};
@@ -335,11 +336,12 @@ fn contact_optimum_is_over_bl_stable_placements() {
     ];
     let mut hanging = r.clone();
     for (t, (x, y)) in hanging.placement.targets.iter_mut().zip(at) {
-        let (w, d) = (t.rect.x1 - t.rect.x0, t.rect.y1 - t.rect.y0);
-        t.rect.x0 = f64::from(x) * 0.002;
-        t.rect.y0 = f64::from(y) * 0.002;
-        t.rect.x1 = t.rect.x0 + w;
-        t.rect.y1 = t.rect.y0 + d;
+        t.rect = Rect::new(
+            f64::from(x) * 0.002,
+            f64::from(y) * 0.002,
+            t.rect.width(),
+            t.rect.depth(),
+        );
     }
     assert!((units(hanging.placement.occupied_area()) - 1512.0).abs() < 1e-6);
     assert!(
