@@ -162,8 +162,9 @@ pub struct Search<'a> {
     /// The open-object profiles, per (placed set, position), of the states that failed without
     /// a contact cut: a state is dead when a recorded one with the same placed set and position
     /// had no more load anywhere ahead ([`dominated`]). Profiles kept, counted against [`DEAD_MAX`].
-    /// Two lists: the search's, and the probes' (`search/probe.rs`), which may consult only
-    /// their own; what a probe finds dead goes into both.
+    /// Two lists: the search's, and the probes' (`search/probe.rs`), keyed by the placed set
+    /// without the left-out items ([`Self::probe_set`]). Probes consult only theirs, the search
+    /// both: what a probe finds dead is dead for the search too.
     dominant: [Profiles; 2],
     dominant_len: usize,
     /// The profiles of `dominant`, one after the other: a box per profile made allocation and
@@ -715,7 +716,6 @@ impl<'a> Search<'a> {
         let cut = if let Some(k) = &key {
             // The open-object profile: the key without its head and contact marker (`state_key`).
             let profile = &k[2..k.len() - self.cbound.is_some() as usize];
-            let list = self.dominant[self.probing as usize].get(&(self.placed_mask, k[1].0));
             let at = |&p: &Profile| in_arena(&self.arena, p);
             let same = |a: &Profile| {
                 if self.dominance {
@@ -724,8 +724,16 @@ impl<'a> Search<'a> {
                     at(a) == profile
                 }
             };
-            let dead = list.is_some_and(|l| l.iter().any(same));
-            self.dominance_cuts += (dead && list.is_some_and(|l| !l.iter().any(|a| at(a) == profile))) as u64;
+            // A probe consults only its own list; the search both (what a probe refutes is dead
+            // for the search too, whichever way the left-out items were placed).
+            let probes = self.dominant[1].get(&(self.probe_set(), k[1].0));
+            let own = (!self.probing)
+                .then(|| self.dominant[0].get(&(self.placed_mask, k[1].0)))
+                .flatten();
+            let dead_in = |l: Option<&SmallVec<[Profile; 2]>>| l.is_some_and(|l| l.iter().any(same));
+            let exact_in = |l: Option<&SmallVec<[Profile; 2]>>| l.is_some_and(|l| l.iter().any(|a| at(a) == profile));
+            let dead = dead_in(probes) || dead_in(own);
+            self.dominance_cuts += (dead && !exact_in(probes) && !exact_in(own)) as u64;
             // A dead profile before the capacity check, which costs more: both are cuts at any
             // bound, so the order changes no node, only what is paid.
             dead || self.capacity_refutes(t, min_idx)
@@ -752,7 +760,10 @@ impl<'a> Search<'a> {
         // A state the probe refutes is dead at any bound, like one that capacity cuts.
         if let Some(k) = &key {
             if whole && self.split.is_none() && self.probe_refutes(t, min_idx, placed_area, rem_area, waste) {
+                // Refuted without the left-out items: a record for the probes' list.
+                self.probing = true;
                 self.record_dead(k, waste, ub, true);
+                self.probing = false;
                 self.key_pool.extend(key);
                 return false;
             }
@@ -765,6 +776,17 @@ impl<'a> Search<'a> {
             self.key_pool.push(k);
         }
         found
+    }
+
+    /// The placed set as the probes' list keys it: without the items probes leave out. Whether
+    /// a probe reaches a complete x-assignment depends on the other items placed, the position
+    /// and the open objects' profile (the left-out items still open are in it), not on where
+    /// the left-out items that ended behind the position went: their area behind it is placed
+    /// or wasted alike. So a state a probe refuted refutes every state that differs from it
+    /// only there, which the search meets once for each way of placing the smallest items
+    /// (docs/algorithms.md, *Probes without the smallest items*).
+    fn probe_set(&self) -> u64 {
+        self.placed_mask & !self.probe_items
     }
 
     /// Record the state `key` as dead: at any bound (`any`: no contact cut below it), as a
@@ -785,10 +807,15 @@ impl<'a> Search<'a> {
             }
             let at: Profile = (self.arena.len() as u32, profile.len() as u32);
             self.arena.extend_from_slice(profile);
-            // A probe's dead state is dead for the search too; not the other way round. Both
-            // lists point at the one copy in the arena.
-            for m in 0..=self.probing as usize {
-                let list = self.dominant[m].entry((self.placed_mask, key[1].0)).or_default();
+            // A probe's dead state goes to the probes' list, which the search consults too; the
+            // search's own dead states only to its own list (they may need the left-out items).
+            {
+                let (m, set) = if self.probing {
+                    (1, self.probe_set())
+                } else {
+                    (0, self.placed_mask)
+                };
+                let list = self.dominant[m].entry((set, key[1].0)).or_default();
                 // Records this one dominates are redundant: whatever they cut, it cuts.
                 let before = list.len();
                 if self.dominance {
