@@ -726,7 +726,9 @@ impl<'a> Search<'a> {
             };
             // A probe consults only its own list; the search both (what a probe refutes is dead
             // for the search too, whichever way the left-out items were placed).
-            let probes = self.dominant[1].get(&(self.probe_set(), k[1].0));
+            let probes = (self.probe_items != 0)
+                .then(|| self.dominant[1].get(&(self.probe_set(), k[1].0)))
+                .flatten();
             let own = (!self.probing)
                 .then(|| self.dominant[0].get(&(self.placed_mask, k[1].0)))
                 .flatten();
