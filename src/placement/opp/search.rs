@@ -763,9 +763,7 @@ impl<'a> Search<'a> {
         if let Some(k) = &key {
             if whole && self.split.is_none() && self.probe_refutes(t, min_idx, placed_area, rem_area, waste) {
                 // Refuted without the left-out items: a record for the probes' list.
-                self.probing = true;
-                self.record_dead(k, waste, ub, true);
-                self.probing = false;
+                self.record_dead(k, waste, ub, true, true);
                 self.key_pool.extend(key);
                 return false;
             }
@@ -773,7 +771,7 @@ impl<'a> Search<'a> {
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
         if let Some(k) = key {
             if whole && !found && !self.stopped && self.yleaves == leaves_before {
-                self.record_dead(&k, waste, ub, self.cpruned == cut_before);
+                self.record_dead(&k, waste, ub, self.cpruned == cut_before, self.probing);
             }
             self.key_pool.push(k);
         }
@@ -786,14 +784,15 @@ impl<'a> Search<'a> {
     /// the left-out items that ended behind the position went: their area behind it is placed
     /// or wasted alike. So a state a probe refuted refutes every state that differs from it
     /// only there, which the search meets once for each way of placing the smallest items
-    /// (docs/algorithms.md, *Probes without the smallest items*).
+    /// (docs/algorithms.md, *The probes' dead states whichever way the smallest items went*).
     fn probe_set(&self) -> u64 {
         self.placed_mask & !self.probe_items
     }
 
     /// Record the state `key` as dead: at any bound (`any`: no contact cut below it), as a
-    /// profile, or at its contact bound `ub`.
-    fn record_dead(&mut self, key: &[(i32, i32)], waste: f64, ub: f64, any: bool) {
+    /// profile in the probes' list (`probed`: refuted without the left-out items) or the
+    /// search's, or at its contact bound `ub`.
+    fn record_dead(&mut self, key: &[(i32, i32)], waste: f64, ub: f64, any: bool, probed: bool) {
         let tol = self.t * (self.w + self.d);
         if any {
             // No complete x-assignment extends it, whatever the contact bound.
@@ -812,7 +811,7 @@ impl<'a> Search<'a> {
             // A probe's dead state goes to the probes' list, which the search consults too; the
             // search's own dead states only to its own list (they may need the left-out items).
             {
-                let (m, set) = if self.probing {
+                let (m, set) = if probed {
                     (1, self.probe_set())
                 } else {
                     (0, self.placed_mask)
