@@ -810,22 +810,20 @@ impl<'a> Search<'a> {
             self.arena.extend_from_slice(profile);
             // A probe's dead state goes to the probes' list, which the search consults too; the
             // search's own dead states only to its own list (they may need the left-out items).
-            {
-                let (m, set) = if probed {
-                    (1, self.probe_set())
-                } else {
-                    (0, self.placed_mask)
-                };
-                let list = self.dominant[m].entry((set, key[1].0)).or_default();
-                // Records this one dominates are redundant: whatever they cut, it cuts.
-                let before = list.len();
-                if self.dominance {
-                    let arena = &self.arena;
-                    list.retain(|p| !dominated(in_arena(arena, *p), profile));
-                }
-                self.dominant_len = self.dominant_len + 1 + list.len() - before;
-                list.push(at);
+            let (m, set) = if probed {
+                (1, self.probe_set())
+            } else {
+                (0, self.placed_mask)
+            };
+            let list = self.dominant[m].entry((set, key[1].0)).or_default();
+            // Records this one dominates are redundant: whatever they cut, it cuts.
+            let before = list.len();
+            if self.dominance {
+                let arena = &self.arena;
+                list.retain(|p| !dominated(in_arena(arena, *p), profile));
             }
+            self.dominant_len = self.dominant_len + 1 + list.len() - before;
+            list.push(at);
         } else {
             if self.dead.len() >= self.memo_cap {
                 self.dead.clear();
