@@ -70,7 +70,7 @@ type Profiles = HashMap<(u64, i32), SmallVec<[Profile; 2]>, BuildHasherDefault<F
 /// box ([`Search::take_dead_profiles`]).
 #[derive(Default)]
 pub(super) struct DeadProfiles {
-    lists: [Profiles; 2],
+    lists: [Profiles; 3],
     len: usize,
     arena: Vec<(i32, i32)>,
 }
@@ -164,8 +164,10 @@ pub struct Search<'a> {
     /// had no more load anywhere ahead ([`dominated`]). Profiles kept, counted against [`DEAD_MAX`].
     /// Two lists: the search's, and the probes' (`search/probe.rs`), keyed by the placed set
     /// without the left-out items ([`Self::probe_set`]). Probes consult only theirs, the search
-    /// both: what a probe finds dead is dead for the search too.
-    dominant: [Profiles; 2],
+    /// both: what a probe finds dead is dead for the search too. A third, keyed as the probes',
+    /// holds the states on the paths by which probes reached a complete x-assignment, where a
+    /// probe would find the same again ([`Self::known_alive`]).
+    dominant: [Profiles; 3],
     dominant_len: usize,
     /// The profiles of `dominant`, one after the other: a box per profile made allocation and
     /// freeing about a tenth of the contact enumeration's time (`perf`, squares 1…21). Those
@@ -199,6 +201,10 @@ pub struct Search<'a> {
     probe_until: u64,
     probe_gave_up: bool,
     pub(super) probe_cuts: u64,
+    /// Whether probes are skipped at states known alive (off only in tests, to show that it
+    /// skips no probe that would refute), and how many were.
+    pub(super) witnesses: bool,
+    pub(super) probes_skipped: u64,
     /// Enumeration mode: every packing goes to the visitor (which returns `true` to stop);
     /// no mirror symmetry breaking, since what the visitor measures need not be symmetric.
     visit: Option<&'a mut Visitor<'a>>,
@@ -412,9 +418,11 @@ impl<'a> Search<'a> {
             probe_until: 0,
             probe_gave_up: false,
             probe_cuts: 0,
+            witnesses: true,
+            probes_skipped: 0,
             dead: HashMap::default(),
             key_pool: Vec::new(),
-            dominant: [HashMap::default(), HashMap::default()],
+            dominant: Default::default(),
             dominant_len: 0,
             arena: Vec::new(),
             memo_cap: DEAD_MAX,
@@ -761,7 +769,7 @@ impl<'a> Search<'a> {
         let whole = self.followed == self.path.len();
         // A state the probe refutes is dead at any bound, like one that capacity cuts.
         if let Some(k) = &key {
-            if whole && self.split.is_none() && self.probe_refutes(t, min_idx, placed_area, rem_area, waste) {
+            if whole && self.split.is_none() && self.probe_refutes(k, t, min_idx, placed_area, rem_area, waste) {
                 // Refuted without the left-out items: a record for the probes' list.
                 self.record_dead(k, waste, ub, true, true);
                 self.key_pool.extend(key);
@@ -770,6 +778,10 @@ impl<'a> Search<'a> {
         }
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
         if let Some(k) = key {
+            // On the way to a probe's complete x-assignment: its probe would find it again.
+            if found && self.probing {
+                self.record_alive(&k);
+            }
             if whole && !found && !self.stopped && self.yleaves == leaves_before {
                 self.record_dead(&k, waste, ub, self.cpruned == cut_before, self.probing);
             }
@@ -796,18 +808,8 @@ impl<'a> Search<'a> {
         let tol = self.t * (self.w + self.d);
         if any {
             // No complete x-assignment extends it, whatever the contact bound.
-            // A full memo starts afresh: the depth-first search meets again the states it
-            // left recently, not the first ones (the hardest box of squares 1…21, 71 × 47:
-            // 83 M nodes keeping the first 2 M states, 32 M starting afresh).
-            let profile = &key[2..key.len() - self.cbound.is_some() as usize];
-            // The arena also starts afresh when the dropped profiles fill it (within u32).
-            if self.dominant_len >= self.memo_cap || self.arena.len() + profile.len() > ARENA_MAX {
-                self.dominant.iter_mut().for_each(HashMap::clear);
-                self.dominant_len = 0;
-                self.arena.clear();
-            }
-            let at: Profile = (self.arena.len() as u32, profile.len() as u32);
-            self.arena.extend_from_slice(profile);
+            let profile = self.profile_of(key);
+            let at = self.keep_profile(profile);
             // A probe's dead state goes to the probes' list, which the search consults too; the
             // search's own dead states only to its own list (they may need the left-out items).
             let (m, set) = if probed {
@@ -835,6 +837,51 @@ impl<'a> Search<'a> {
                 *e = (waste, ub);
             }
         }
+    }
+
+    /// The open-object profile of a state key: the key without its head and contact marker
+    /// ([`Self::state_key`]).
+    fn profile_of<'k>(&self, key: &'k [(i32, i32)]) -> &'k [(i32, i32)] {
+        &key[2..key.len() - self.cbound.is_some() as usize]
+    }
+
+    /// Put `profile` in the arena, for one of the lists of `dominant`. A full memo (or arena,
+    /// within u32) starts afresh: the depth-first search meets again the states it left
+    /// recently, not the first ones (the hardest box of squares 1…21, 71 × 47: 83 M nodes
+    /// keeping the first 2 M states, 32 M starting afresh).
+    fn keep_profile(&mut self, profile: &[(i32, i32)]) -> Profile {
+        if self.dominant_len >= self.memo_cap || self.arena.len() + profile.len() > ARENA_MAX {
+            self.dominant.iter_mut().for_each(HashMap::clear);
+            self.dominant_len = 0;
+            self.arena.clear();
+        }
+        let at: Profile = (self.arena.len() as u32, profile.len() as u32);
+        self.arena.extend_from_slice(profile);
+        at
+    }
+
+    /// Whether a probe at the state `key` would reach a complete x-assignment: a probe did from
+    /// a state with the same key for the probes (placed set without the left-out items,
+    /// position, profile), on its way there or at its start. What a probe answers depends on
+    /// that key alone (*The probes' dead states whichever way the smallest items went*,
+    /// docs/algorithms.md), so skipping it loses no cut.
+    fn known_alive(&self, key: &[(i32, i32)]) -> bool {
+        let profile = self.profile_of(key);
+        let list = self.dominant[2].get(&(self.probe_set(), key[1].0));
+        self.witnesses && list.is_some_and(|l| l.iter().any(|&a| in_arena(&self.arena, a) == profile))
+    }
+
+    /// Record the state `key` as one a probe reaches a complete x-assignment from (once).
+    pub(super) fn record_alive(&mut self, key: &[(i32, i32)]) {
+        if !self.witnesses || self.known_alive(key) {
+            return;
+        }
+        let at = self.keep_profile(self.profile_of(key));
+        self.dominant[2]
+            .entry((self.probe_set(), key[1].0))
+            .or_default()
+            .push(at);
+        self.dominant_len += 1;
     }
 
     /// Place item `i` in footprint `k` at left edge `t` in the x-phase, with everything kept in

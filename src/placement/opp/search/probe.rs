@@ -53,11 +53,14 @@ impl Search<'_> {
             .sum();
     }
 
-    /// Whether the x-phase state at `t` (the arguments of [`Search::xphase`]) has no complete
-    /// x-assignment even without the probe's items still unplaced: the x-phase's branches
-    /// below it, searched without them, reach none within [`PROBE_NODES`] nodes.
+    /// Whether the x-phase state `key` at `t` (the arguments of [`Search::xphase`]) has no
+    /// complete x-assignment even without the probe's items still unplaced: the x-phase's
+    /// branches below it, searched without them, reach none within [`PROBE_NODES`] nodes. Not
+    /// asked where a probe is known to reach one ([`Search::known_alive`]); one that does is
+    /// recorded so.
     pub(super) fn probe_refutes(
         &mut self,
+        key: &[(i32, i32)],
         t: f64,
         min_idx: usize,
         placed_area: f64,
@@ -68,6 +71,10 @@ impl Search<'_> {
         let unplaced = (self.probe_items & !self.placed_mask).count_ones() as usize;
         // Nothing to probe, or only the left-out items still to place: the subset is complete.
         if self.probing || unplaced == 0 || self.xends.len() + unplaced == n {
+            return false;
+        }
+        if self.known_alive(key) {
+            self.probes_skipped += 1;
             return false;
         }
         let left_out: f64 = (0..n)
@@ -83,9 +90,14 @@ impl Search<'_> {
             self.stopped = false;
             return false;
         }
-        let dead = !alive && !self.stopped;
-        self.probe_cuts += dead as u64;
-        dead
+        if self.stopped {
+            return false;
+        }
+        if alive {
+            self.record_alive(key);
+        }
+        self.probe_cuts += !alive as u64;
+        !alive
     }
 
     /// Whether item `i` is left out of the probe now running.

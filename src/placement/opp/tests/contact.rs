@@ -295,6 +295,74 @@ fn probes_cut_only_states_no_packing_completes() {
     );
 }
 
+/// A probe is skipped only where it would not have refuted: on random instances of 8 to 10
+/// items and on squares 1…9 to 1…12, the enumeration under a contact bound (raised by each
+/// find) visits the same packings in the same order with and without the record of the
+/// states probes reached a complete x-assignment from, refutes as many states by probes and
+/// hands as many x-assignments to the y-phase, in no more nodes; and probes are skipped in
+/// many of them.
+#[test]
+fn probes_skipped_where_known_alive_refute_nothing() {
+    let mut rng = Lcg(59);
+    let never = || false;
+    let mut cases: Vec<(Vec<Item>, f64, f64)> = Vec::new();
+    for _ in 0..240 {
+        let items = random_items_of(&mut rng, false, (8, 3), 6);
+        let area: f64 = items.iter().map(least_area).sum();
+        let w = (5 + rng.below(6)) as f64;
+        let d = (area / w).ceil() + rng.below(2) as f64;
+        cases.push((items, w, d));
+    }
+    for (n, w, d) in [
+        (9usize, 20.0, 15.0),
+        (10, 27.0, 15.0),
+        (11, 27.0, 19.0),
+        (12, 29.0, 23.0),
+    ] {
+        cases.push((squares(n), w, d));
+    }
+    let (mut compared, mut skipping, mut fewer) = (0, 0, 0);
+    for (case, (items, w, d)) in cases.iter().enumerate() {
+        if super::super::search::probe_left_out(items, *w, *d) == 0 {
+            continue;
+        }
+        let what = format!("case {case}: {items:?} in {w} × {d}");
+        let far = [false; 2];
+        let mut runs = Vec::new();
+        for witnesses in [true, false] {
+            let bound = Cell::new(-1.0);
+            let mut seen: Vec<(Vec<Pos>, f64)> = Vec::new();
+            let mut visit = |p: &[Pos]| {
+                if let Some(c) = contact_if_stable(items, p, (*w, *d), far) {
+                    if c > bound.get() + 1e-9 {
+                        bound.set(c);
+                        seen.push((p.to_vec(), c));
+                    }
+                }
+                false
+            };
+            let mut s = Search::enumerator(items, *w, *d, &never, &mut visit, Some(&bound), far);
+            s.witnesses = witnesses;
+            assert_eq!(s.run(), Outcome::Infeasible, "{what}: finished");
+            let counts = (s.probe_cuts, s.yleaves, s.nodes, s.probes_skipped);
+            drop(s);
+            runs.push((seen, counts));
+        }
+        let ((with, a), (without, b)) = (&runs[0], &runs[1]);
+        assert_eq!(with, without, "{what}: the packings found");
+        assert_eq!((a.0, a.1), (b.0, b.1), "{what}: probe refutations and y-phase leaves");
+        assert!(a.2 <= b.2, "{what}: {} nodes with the record, {} without", a.2, b.2);
+        assert_eq!(b.3, 0, "{what}: skipped without the record");
+        compared += 1;
+        skipping += (a.3 > 0) as u32;
+        fewer += (a.2 < b.2) as u32;
+    }
+    assert!(
+        compared > 150 && skipping > 80 && fewer > 80,
+        "{compared} {skipping} {fewer}"
+    );
+}
+
 /// The gapless-stacks bound below the y-phase's root cuts only branches that hold no packing
 /// above the bound: on random instances of 6 to 9 items (some lying on any face) near their
 /// area, some boxes reaching the far walls, the enumeration under a fixed contact bound (the
