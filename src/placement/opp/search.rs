@@ -63,11 +63,12 @@ fn low_bits(n: usize) -> u64 {
 /// they start in [`Search::arena`] and how many there are.
 type Profile = (u32, u32);
 
-/// Dead profiles by (placed set, position), as [`Search`] keeps them.
+/// Profiles by (placed set, position), as [`Search`] keeps them: dead ones, or those its
+/// probes got through.
 type Profiles = HashMap<(u64, i32), SmallVec<[Profile; 2]>, BuildHasherDefault<FxHasher>>;
 
-/// The profiles a search recorded dead at any bound, handed to a later search of the same
-/// box ([`Search::take_dead_profiles`]).
+/// The profiles a search recorded dead at any bound, and those its probes got through, handed
+/// to a later search of the same box ([`Search::take_dead_profiles`]).
 #[derive(Default)]
 pub(super) struct DeadProfiles {
     lists: [Profiles; 3],
@@ -552,9 +553,9 @@ impl<'a> Search<'a> {
         self.dead.clear();
     }
 
-    /// The profiles this search recorded dead at any bound (its own and its probes'), taken
-    /// out of it, for a later search of the same items in the same box
-    /// ([`Self::with_dead_profiles`]).
+    /// The profiles this search recorded dead at any bound (its own and its probes') and those
+    /// its probes got through, taken out of it, for a later search of the same items in the
+    /// same box ([`Self::with_dead_profiles`]).
     pub(super) fn take_dead_profiles(&mut self) -> DeadProfiles {
         DeadProfiles {
             lists: std::mem::take(&mut self.dominant),
@@ -566,7 +567,8 @@ impl<'a> Search<'a> {
     /// Start from the profiles an earlier search of the same items, box and kind (decision or
     /// enumeration) recorded dead at any bound. Whether a state is dead that way depends on the
     /// state alone (no complete x-assignment extends it), not on the search that found it, its
-    /// tasks or its contact bound, so they cut only subtrees without a packing here too.
+    /// tasks or its contact bound, so they cut only subtrees without a packing here too; and
+    /// whether a probe gets through a state depends on the probes' key alone.
     pub(super) fn with_dead_profiles(mut self, dead: DeadProfiles) -> Self {
         self.dominant = dead.lists;
         self.dominant_len = dead.len;
