@@ -724,8 +724,7 @@ impl<'a> Search<'a> {
             k
         });
         let cut = if let Some(k) = &key {
-            // The open-object profile: the key without its head and contact marker (`state_key`).
-            let profile = &k[2..k.len() - self.cbound.is_some() as usize];
+            let profile = self.profile_of(k);
             let at = |&p: &Profile| in_arena(&self.arena, p);
             let same = |a: &Profile| {
                 if self.dominance {
@@ -868,14 +867,17 @@ impl<'a> Search<'a> {
     /// that key alone (*The probes' dead states whichever way the smallest items went*,
     /// docs/algorithms.md), so skipping it loses no cut.
     fn known_alive(&self, key: &[(i32, i32)]) -> bool {
+        if !self.witnesses {
+            return false;
+        }
         let profile = self.profile_of(key);
         let list = self.dominant[2].get(&(self.probe_set(), key[1].0));
-        self.witnesses && list.is_some_and(|l| l.iter().any(|&a| in_arena(&self.arena, a) == profile))
+        list.is_some_and(|l| l.iter().any(|&a| in_arena(&self.arena, a) == profile))
     }
 
     /// Record the state `key` as one a probe reaches a complete x-assignment from (once).
-    pub(super) fn record_alive(&mut self, key: &[(i32, i32)]) {
-        if !self.witnesses || self.known_alive(key) {
+    fn record_alive(&mut self, key: &[(i32, i32)]) {
+        if self.known_alive(key) || !self.witnesses {
             return;
         }
         let at = self.keep_profile(self.profile_of(key));
