@@ -221,12 +221,13 @@ pub type Scored = (f64, Vec<Pos>);
 ///
 /// Either axis may be the x-phase's: the packings and their scores are the same up to
 /// transposition, but the cost is not (docs/algorithms.md, *Which axis the x-phase takes*).
-/// The search first runs 2¹⁶ nodes along the given axis on one thread. When it handed the
-/// y-phase more than one complete x-assignment per 100 nodes (the x-phase lets through what
-/// the y-phase must refute one by one, and nothing remembers those), it runs three times as
-/// many again; if it has not finished by then and the rate is still above that, the other
-/// axis's enumeration takes over (at once when the first 2¹⁶ nodes came above 1.8 times that
-/// rate). Otherwise this one goes on where the pilot stopped.
+/// The search first runs 2¹⁴ nodes along the given axis on one thread; when it handed the
+/// y-phase at most one complete x-assignment per 100 nodes, it goes on along that axis on
+/// every thread. Otherwise the pilot runs to 2¹⁶ nodes, and when the rate is still above that
+/// (the x-phase lets through what the y-phase must refute one by one, and nothing remembers
+/// those), it runs three times as many again; if it has not finished by then and the rate is
+/// still above, the other axis's enumeration takes over (at once when the first 2¹⁶ nodes
+/// came above 1.8 times that rate). Otherwise this one goes on where the pilot stopped.
 ///
 /// The same answer on any number of threads: the pilot runs on one thread and polls its
 /// budget every 1,024 nodes, so the axis is chosen alike; the answer is then the first
@@ -322,9 +323,19 @@ pub(super) fn best_packing_piloted(
         }
     };
     let along = Best::new(items, w, d, score, to_beat, far);
-    let (pilot, leaves) = along.pilot(budget, stop, &from(base + along.root_nodes));
+    // A first quarter at or below the rate keeps the axis at once, so that two threads share
+    // the other three quarters (docs/algorithms.md, *A first quarter at the rate keeps the
+    // axis*); otherwise the pilot goes on to its whole budget.
+    let early = budget / EARLY_PART;
+    let (mut pilot, mut leaves) = along.pilot(early, stop, &from(base + along.root_nodes));
+    let kept = !along.complete() && leaves as f64 <= rate * pilot as f64;
+    if !kept {
+        let (more, more_leaves) = along.pilot(budget - pilot.min(budget), stop, &from(base + along.root_nodes + pilot));
+        pilot += more;
+        leaves += more_leaves;
+    }
     let mut nodes = along.root_nodes + pilot;
-    let mut turn = !along.complete() && leaves as f64 > rate * pilot as f64;
+    let mut turn = !kept && !along.complete() && leaves as f64 > rate * pilot as f64;
     if turn && leaves as f64 <= SURE * rate * pilot as f64 {
         // Before giving up what the pilot did, the same axis gets three times as many nodes
         // again: a box it finishes within them is not worth the other axis's risk
@@ -367,6 +378,12 @@ pub(super) fn best_packing_piloted(
 /// 2¹⁶, 2¹⁸ and 2²⁰ nodes came to 57.4 M, 59.2 M and 60.0 M nodes in all, and the pilot is the
 /// part that two threads cannot share.
 const PILOT_NODES: u64 = 1 << 16;
+
+/// The pilot's first part, as a share of its budget, after which a rate at most [`Y_RATE`]
+/// keeps the given axis at once. Over squares 10…20, the committed n12, n16 and n20 sets and
+/// sixty generated files, a first quarter (2¹⁴ nodes) changed one axis, for the better
+/// (docs/algorithms.md, *A first quarter at the rate keeps the axis*).
+const EARLY_PART: u64 = 4;
 
 /// Complete x-assignments per pilot node above which [`best_packing`] turns to the other axis
 /// (docs/algorithms.md, *Which axis the x-phase takes* and *Gapless stacks*: until the
