@@ -74,8 +74,8 @@ enum Cmd {
         /// value: one it rejects, or a run it fails, is a solver error (exit 3).
         #[arg(long = "highs-option", value_name = "NAME=VALUE")]
         highs_option: Vec<String>,
-        /// Exact solver only: threads deciding each enclosing box of the area stage (the same
-        /// answer on any number; default 1).
+        /// Exact solver only: threads searching each enclosing box, in the area stage and the
+        /// contact stage (the same answer on any number; default 1).
         #[arg(long)]
         threads: Option<usize>,
     },

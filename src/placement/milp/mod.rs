@@ -111,8 +111,9 @@ pub struct MilpSettings {
     /// or whose value changes what HiGHS's "optimal" and "infeasible" prove are refused by
     /// [`MilpSettings::check_highs_options`] (see [`FORBIDDEN_HIGHS_OPTIONS`]). Default: none.
     pub highs_options: Vec<(String, String)>,
-    /// Threads deciding one enclosing box of the area stage (default 1). The answer is the same
-    /// on any number (`opp::decide_metered`); more threads only shorten the wall time.
+    /// Threads searching one enclosing box, in the area stage and in the contact stage's
+    /// enumeration (default 1). The answer is the same on any number (`opp::decide_metered`,
+    /// `opp::best_packing`); more threads only shorten the wall time.
     pub threads: usize,
 }
 
