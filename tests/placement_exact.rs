@@ -186,6 +186,10 @@ fn place_cli_takes_the_exact_solvers_master_and_contact_budget() {
         (vec!["place", inst, "--threads", "2"], "--threads"),
         (vec!["place", inst, "--solver", "milp", "--threads", "0"], "--threads"),
         (
+            vec!["plan", inst, "--threads", "0", "--out", "/nonexistent/never"],
+            "--threads",
+        ),
+        (
             vec!["place", inst, "--solver", "milp", "--contact-budget", "soon"],
             "--contact-budget",
         ),

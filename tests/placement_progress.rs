@@ -15,7 +15,7 @@ fn placement_progress_is_monotone_and_bounded() {
     // faster: squares 1…14 took 2 s when this test was written and 0.1 s on 2026-11-26.
     let inst = Instance::parse(&consecutive_squares_toml(16, None), false, "<squares>", None).unwrap();
     let mut rec = Recorder::default();
-    let (r, _) = solve_placement_with(&inst, PlacementSolver::Milp, 1, 5, 120.0, &Never, &mut rec).unwrap();
+    let (r, _) = solve_placement_with(&inst, PlacementSolver::Milp, 1, 5, 120.0, 1, &Never, &mut rec).unwrap();
     let progress: Vec<(u64, Option<f64>, Option<f64>)> = rec
         .0
         .iter()

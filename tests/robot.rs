@@ -285,6 +285,50 @@ fn ik_reports_unreachable_poses_with_numbers() {
     assert!(e.to_string().contains("cannot reach"), "{e}");
 }
 
+/// The descents from the seeds made side by side ([`IkSolver::threads`]) give every answer
+/// of one thread: solutions in the same order, the same nearest branch, the same failures
+/// with the same residuals and attempt counts. Targets: poses of random configurations,
+/// top-down poses over the work cell in many yaws (some only an extra seed reaches, some
+/// none), and poses beyond the arm.
+#[test]
+fn ik_threads_change_no_answer() {
+    let m = RobotModel::bundled();
+    let mut r = common::Rng(77);
+    let (mut solved, mut failed) = (0, 0);
+    for arm in [Arm::Left, Arm::Right] {
+        let lim = limits(&m, arm);
+        let one = IkSolver::new(&m, arm, &DEFAULT_TCP_OFFSET);
+        let mut targets: Vec<_> = (0..40).map(|_| one.fk(&random_q(&mut r, &lim))).collect();
+        for k in 0..60 {
+            let p = Vector3::new(r.range(0.15, 0.45), r.range(-0.45, 0.45), r.range(-0.2, -0.1));
+            targets.push(top_down_pose(&p, k as f64 * 0.11));
+        }
+        targets.push(top_down_pose(&Vector3::new(1.5, 0.3, 0.0), 0.0));
+        let prev = home()[arm.index()];
+        for threads in [2, 3] {
+            let one = IkSolver::new(&m, arm, &DEFAULT_TCP_OFFSET);
+            let mut many = IkSolver::new(&m, arm, &DEFAULT_TCP_OFFSET);
+            many.threads = threads;
+            for (i, t) in targets.iter().enumerate() {
+                let what = format!("{arm:?}, target {i}, {threads} threads");
+                assert_eq!(many.solve_all(t), one.solve_all(t), "{what}: solve_all");
+                let (a, b) = (many.solve(t), one.solve(t));
+                match &b {
+                    Ok(_) => solved += 1,
+                    Err(_) => failed += 1,
+                }
+                assert_eq!(a, b, "{what}: solve");
+                assert_eq!(
+                    many.solve_near(t, &prev),
+                    one.solve_near(t, &prev),
+                    "{what}: solve_near"
+                );
+            }
+        }
+    }
+    assert!(solved > 100 && failed > 10, "{solved} solved, {failed} failed");
+}
+
 #[test]
 fn ik_follows_a_path_without_branch_flips() {
     let m = RobotModel::bundled();
@@ -467,6 +511,21 @@ fn paper_plans_have_verified_collision_free_trajectories_for_every_action() {
             plan.trajectories.iter().map(|t| t.points.len()).sum::<usize>()
         );
     }
+}
+
+/// `PlanOptions::threads` changes no plan: the paper's eight-object plan on two threads has
+/// the placement, actions and trajectories of one thread, and passes the verifier.
+#[test]
+fn the_paper_plan_is_the_same_on_two_threads() {
+    let (inst, out) = &paper_plans()[1];
+    let mut opts = PlanOptions::from_instance(inst);
+    opts.threads = 2;
+    let two = optimize(inst, &opts).expect("plans");
+    assert_eq!(two.plan.placements, out.plan.placements);
+    assert_eq!(two.plan.actions, out.plan.actions);
+    assert_eq!(two.plan.trajectories, out.plan.trajectories);
+    let report = pushpack::verify::verify(inst, &two.plan);
+    assert!(report.is_valid() && report.robot_issues.is_empty(), "{report}");
 }
 
 /// The farthest the TCP of `tr` comes from the line between key poses `s` and `e`, at its

@@ -293,6 +293,10 @@ struct PlanArgs {
     /// A* only, developer diagnostics: print the search's phases and bounds to stderr.
     #[arg(long)]
     astar_trace: bool,
+    /// Threads of the exact placement's box searches and of the inverse kinematics' descents
+    /// (default 1; the same plan on any number).
+    #[arg(long)]
+    threads: Option<usize>,
     /// A* only, developer diagnostics: time the bound computations and print a profile to
     /// stderr at the end.
     #[arg(long)]
@@ -340,6 +344,9 @@ impl PlanArgs {
         }
         o.astar.trace |= self.astar_trace;
         o.astar.profile |= self.astar_profile;
+        if let Some(n) = self.threads {
+            o.threads = threads_in_range(n)?;
+        }
         Ok(o)
     }
 }
@@ -651,17 +658,7 @@ impl ExactArgs {
             };
             highs_options.push((name.trim().to_string(), value.trim().to_string()));
         }
-        let threads = match self.threads {
-            None => 1,
-            Some(n) if (1..=256).contains(&n) => n,
-            Some(n) => {
-                return Err(Error::input(
-                    "<command line>",
-                    "--threads",
-                    format!("must be between 1 and 256, got {n}"),
-                ))
-            }
-        };
+        let threads = self.threads.map_or(Ok(1), threads_in_range)?;
         let settings = MilpSettings {
             time_limit,
             contact_stage: true,
@@ -772,6 +769,19 @@ fn load_plan_instance(plan: &Path, instance: Option<&Path>) -> Result<(Plan, Ins
         eprintln!("warning: the instance file changed since the plan was made (digest differs)");
     }
     Ok((p, inst))
+}
+
+/// `--threads N`: 1 to 256.
+fn threads_in_range(n: usize) -> Result<usize, Error> {
+    if (1..=256).contains(&n) {
+        Ok(n)
+    } else {
+        Err(Error::input(
+            "<command line>",
+            "--threads",
+            format!("must be between 1 and 256, got {n}"),
+        ))
+    }
 }
 
 #[cfg(test)]

@@ -41,8 +41,9 @@ pub fn build_plan_with(
             });
         }
     };
-    let (robot, trajectories) =
-        crate::motion::plan_trajectories_with(inst, p, &sr.actions, &opts.trajectory, &mut planned);
+    let (robot, trajectories) = crate::robot::ik::with_threads(opts.threads, || {
+        crate::motion::plan_trajectories_with(inst, p, &sr.actions, &opts.trajectory, &mut planned)
+    });
     let placement_status = placement_status(pr);
     let (sequence_status, sequence_stop) = sequence_status(opts.sequencer, sr.status);
     Plan {

@@ -53,17 +53,20 @@ pub fn solve_placement_report(
     bl_orders: usize,
     time_limit: f64,
 ) -> Result<(PlacementResult, Option<placement::milp::MilpReport>)> {
-    solve_placement_with(inst, solver, seed, bl_orders, time_limit, &Never, &mut Silent)
+    solve_placement_with(inst, solver, seed, bl_orders, time_limit, 1, &Never, &mut Silent)
 }
 
-/// [`solve_placement_report`] that also stops when `stop` says so (a cancel flag) and tells
+/// [`solve_placement_report`] with the exact search's boxes on `threads` threads (the same
+/// answer on any number), that also stops when `stop` says so (a cancel flag) and tells
 /// `listener` how the exact search goes ([`Event::Progress`]).
+#[allow(clippy::too_many_arguments)] // the run's settings, then its control
 pub fn solve_placement_with(
     inst: &Instance,
     solver: PlacementSolver,
     seed: u64,
     bl_orders: usize,
     time_limit: f64,
+    threads: usize,
     stop: &dyn Terminator,
     listener: &mut dyn Listener,
 ) -> Result<(PlacementResult, Option<placement::milp::MilpReport>)> {
@@ -77,6 +80,7 @@ pub fn solve_placement_with(
                 time_limit: (time_limit - clock.elapsed()).max(0.0),
                 contact_stage: true,
                 seed,
+                threads: threads.max(1),
                 ..Default::default()
             };
             // Bottom-Left finding nothing proves nothing: the exact search starts without it.
@@ -157,6 +161,15 @@ pub struct PlanOptions {
     /// `velocity_scale` comes from the instance's `robot.speed_scale`.
     #[serde(default)]
     pub trajectory: TrajectoryOptions,
+    /// Threads of the exact placement's box searches and of the inverse kinematics' descents
+    /// from their seeds (default 1; `plan --threads`). The plan is the same on any number, only
+    /// the wall time changes (absent in older plan files: 1).
+    #[serde(default = "one_thread")]
+    pub threads: usize,
+}
+
+fn one_thread() -> usize {
+    1
 }
 
 impl PlanOptions {
@@ -194,6 +207,7 @@ impl PlanOptions {
                     sample_dt: s.sample_dt.unwrap_or(d.sample_dt),
                 }
             },
+            threads: 1,
         }
     }
 }
@@ -281,6 +295,7 @@ pub fn optimize_stages(
         opts.seed,
         opts.bl_orders,
         budget.placement_s,
+        opts.threads,
         stop,
         listener,
     ) {
@@ -414,10 +429,11 @@ fn sequence_one(
         no_multi_push: opts.no_multi_push,
         max_nodes: opts.max_nodes,
     };
-    match opts.sequencer {
+    // The sequencers' reach checks build their own IK solvers: on the run's threads.
+    crate::robot::ik::with_threads(opts.threads, || match opts.sequencer {
         Sequencer::Paper => sequence::paper::solve_with(inst, placement, &seq_opts, limit, listener),
         Sequencer::Astar => sequence::astar::solve_with(inst, placement, &seq_opts, &opts.astar, limit, listener),
-    }
+    })
 }
 
 fn outcome(

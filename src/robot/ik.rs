@@ -17,8 +17,9 @@
 
 use super::{tcp_rotation_in_wrist, Arm, RobotError, RobotModel};
 use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3, Vector6};
-use std::cell::RefCell;
+use std::cell::Cell;
 use std::collections::HashMap;
+use std::sync::Mutex;
 
 /// Rotation of a top-down TCP frame whose finger closing axis (TCP y) makes angle `yaw` with
 /// world x: z = (0, 0, −1), y = (cos yaw, sin yaw, 0), x = y × z.
@@ -73,12 +74,56 @@ pub struct IkSolver<'a> {
     /// trying other seeds when no joint moved more than this (rad, default 1.0; a wrist flip
     /// moves joints 3–5 by about π).
     pub near_jump: f64,
+    /// Threads that make one call's descents from the seeds side by side (default: 1, or what
+    /// [`with_threads`] set for this thread). Each descent is a pure function of its target,
+    /// seed and settings, so the answer is the same on any number.
+    pub threads: usize,
     /// The descents from the solver's own seeds by target and descent settings, in seed order
     /// (see [`IkSolver::run_seeds_until`]): they do not depend on the caller's configuration,
     /// and the joint plan asks for one target from several (the hand variants of an action
-    /// share their poses, and a failed local descent falls back to every seed).
-    seed_runs: RefCell<HashMap<SeedKey, Vec<Attempt>>>,
+    /// share their poses, and a failed local descent falls back to every seed). Behind a lock
+    /// so that threads may share the solver.
+    seed_runs: SeedRuns,
 }
+
+/// [`IkSolver::seed_runs`].
+#[derive(Debug, Default)]
+struct SeedRuns(Mutex<HashMap<SeedKey, Vec<Attempt>>>);
+
+impl SeedRuns {
+    fn lock(&self) -> std::sync::MutexGuard<'_, HashMap<SeedKey, Vec<Attempt>>> {
+        self.0.lock().expect("no descent panics holding it")
+    }
+}
+
+impl Clone for SeedRuns {
+    fn clone(&self) -> Self {
+        SeedRuns(Mutex::new(self.lock().clone()))
+    }
+}
+
+thread_local! {
+    /// The default of [`IkSolver::threads`] for solvers built on this thread.
+    static THREADS: Cell<usize> = const { Cell::new(1) };
+}
+
+/// Run `f` with `threads` as the default of [`IkSolver::threads`] for every solver it builds
+/// on this thread (the planner's stages build their own: `PlanOptions::threads`); the
+/// previous default comes back after it, even when `f` panics.
+pub fn with_threads<R>(threads: usize, f: impl FnOnce() -> R) -> R {
+    struct Restore(usize);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            THREADS.with(|t| t.set(self.0));
+        }
+    }
+    let _restore = Restore(THREADS.with(|t| t.replace(threads.max(1))));
+    f()
+}
+
+/// Extra seeds whose descents are made side by side at a time: the extra seeds stop at the
+/// first that solves, so a batch of all of them would make descents one thread never makes.
+const EXTRA_BATCH: usize = 8;
 
 /// A target's bits and the settings a descent reads (iteration cap, tolerances).
 type SeedKey = [u64; 10];
@@ -133,7 +178,8 @@ impl<'a> IkSolver<'a> {
             tol_pos: 1e-10,
             tol_rot: 1e-10,
             near_jump: 1.0,
-            seed_runs: RefCell::new(HashMap::new()),
+            threads: THREADS.with(Cell::get),
+            seed_runs: SeedRuns::default(),
         }
     }
 
@@ -332,7 +378,7 @@ impl<'a> IkSolver<'a> {
         let mut n = 0;
         let main = 1 + RANDOM_SEEDS.min(self.seeds.len());
         let key = self.seed_key(target);
-        let mut runs = self.seed_runs.borrow_mut().remove(&key).unwrap_or_default();
+        let mut runs = self.seed_runs.lock().remove(&key).unwrap_or_default();
         let offset = first.is_some() as usize;
         'seeds: for i in 0..self.seeds.len() + offset {
             if i >= main + offset && !sols.is_empty() {
@@ -345,7 +391,12 @@ impl<'a> IkSolver<'a> {
                     (_, Some(k)) => {
                         // Made in order, so the next one missing is always at the end.
                         if 2 * k + r == runs.len() {
-                            runs.push(self.descend(target, &self.seeds[k], roll));
+                            if stop_at_first {
+                                runs.push(self.descend(target, &self.seeds[k], roll));
+                            } else {
+                                let end = if k < main { main } else { k + EXTRA_BATCH };
+                                self.descend_from_seeds(target, &mut runs, 2 * end.min(self.seeds.len()));
+                            }
                         }
                         runs[2 * k + r].clone()
                     }
@@ -366,8 +417,33 @@ impl<'a> IkSolver<'a> {
                 }
             }
         }
-        self.seed_runs.borrow_mut().insert(key, runs);
+        self.seed_runs.lock().insert(key, runs);
         (sols, best, n)
+    }
+
+    /// The descents from the solver's seeds that `runs` lacks up to `upto` (seed `k`'s without
+    /// the wrist roll at `2k`, with it at `2k + 1`), on [`IkSolver::threads`] threads: each
+    /// makes a consecutive share, and the shares are appended in order, so `runs` is the same
+    /// as made one after the other.
+    fn descend_from_seeds(&self, target: &Isometry3<f64>, runs: &mut Vec<Attempt>, upto: usize) {
+        let from = runs.len();
+        let one = |i: usize| self.descend(target, &self.seeds[i / 2], i % 2 == 1);
+        let threads = self.threads.clamp(1, upto.saturating_sub(from).max(1));
+        if threads == 1 {
+            runs.extend((from..upto).map(one));
+            return;
+        }
+        let share = (upto - from).div_ceil(threads);
+        let shares: Vec<Vec<Attempt>> = std::thread::scope(|s| {
+            let made: Vec<_> = (from..upto)
+                .step_by(share)
+                .map(|a| s.spawn(move || (a..(a + share).min(upto)).map(one).collect::<Vec<_>>()))
+                .collect();
+            made.into_iter()
+                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                .collect()
+        });
+        runs.extend(shares.into_iter().flatten());
     }
 
     /// The key of `target`'s descents in `seed_runs`.
