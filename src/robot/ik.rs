@@ -394,7 +394,9 @@ impl<'a> IkSolver<'a> {
                             if stop_at_first {
                                 runs.push(self.descend(target, &self.seeds[k], roll));
                             } else {
-                                let end = if k < main { main } else { k + EXTRA_BATCH };
+                                // One thread makes no extra descent it does not need.
+                                let batch = if self.threads > 1 { EXTRA_BATCH } else { 1 };
+                                let end = if k < main { main } else { k + batch };
                                 self.descend_from_seeds(target, &mut runs, 2 * end.min(self.seeds.len()));
                             }
                         }
