@@ -384,21 +384,23 @@ impl<'a> IkSolver<'a> {
             if i >= main + offset && !sols.is_empty() {
                 break;
             }
-            for (r, roll) in [false, true].into_iter().enumerate() {
+            for r in 0..2 {
                 n += 1;
                 let a = match (first, i.checked_sub(offset)) {
                     (Some(f), None) => f[r].clone(),
                     (_, Some(k)) => {
                         // Made in order, so the next one missing is always at the end.
                         if 2 * k + r == runs.len() {
-                            if stop_at_first {
-                                runs.push(self.descend(target, &self.seeds[k], roll));
-                            } else {
-                                // One thread makes no extra descent it does not need.
-                                let batch = if self.threads > 1 { EXTRA_BATCH } else { 1 };
-                                let end = if k < main { main } else { k + batch };
-                                self.descend_from_seeds(target, &mut runs, 2 * end.min(self.seeds.len()));
-                            }
+                            // Stopping at the first solution, only this one; else the main
+                            // seeds at once, the extra ones a batch at a time (one thread
+                            // makes no extra descent it does not need).
+                            let batch = if self.threads > 1 { EXTRA_BATCH } else { 1 };
+                            let upto = match (stop_at_first, k < main) {
+                                (true, _) => 2 * k + r + 1,
+                                (false, true) => 2 * main.min(self.seeds.len()),
+                                (false, false) => 2 * (k + batch).min(self.seeds.len()),
+                            };
+                            self.descend_from_seeds(target, &mut runs, upto);
                         }
                         runs[2 * k + r].clone()
                     }
@@ -430,7 +432,7 @@ impl<'a> IkSolver<'a> {
     fn descend_from_seeds(&self, target: &Isometry3<f64>, runs: &mut Vec<Attempt>, upto: usize) {
         let from = runs.len();
         let one = |i: usize| self.descend(target, &self.seeds[i / 2], i % 2 == 1);
-        let threads = self.threads.clamp(1, upto.saturating_sub(from).max(1));
+        let threads = self.threads.clamp(1, (upto - from).max(1));
         if threads == 1 {
             runs.extend((from..upto).map(one));
             return;
