@@ -68,8 +68,9 @@ const AREA_TOL: f64 = 1e-9;
 pub enum ContactBudget {
     /// What the time limit leaves (the default): the limit the user set governs both stages.
     Rest,
-    /// As long as the area stage took, at least 1 s: the contact stage never costs more than
-    /// the area stage (the rule before 2026-11-25, kept for comparisons).
+    /// As long as the area stage took, but at least 1 s, so that a contact stage after an area
+    /// stage of milliseconds still gets a chance (the rule before 2026-11-25, kept for
+    /// comparisons).
     AreaTime,
     /// At most this many seconds (and never past the time limit).
     Seconds(f64),

@@ -14,6 +14,10 @@ use std::sync::Mutex;
 const SPLIT_AT: u32 = 3;
 const SPLIT_MOST: usize = 1 << 16;
 
+/// Nodes a box's decision runs on one thread before it is split between threads
+/// ([`search`]): stop polls come every 1,024 nodes, so the lead ends at a node count alone.
+pub(super) const LEAD_NODES: u64 = 1 << 12;
+
 /// What the threads of one box share besides their work: the caller's stop, seen by all, the
 /// stop polls of all (each 1024 nodes apart: the meter's estimate while they run), and who
 /// takes which task.
@@ -158,11 +162,53 @@ pub(super) fn search(
     meter: Option<&Cell<u64>>,
     threads: usize,
 ) -> (Outcome, u64) {
+    search_led(items, w, d, stop, meter, threads, LEAD_NODES)
+}
+
+/// [`search`] with a lead of `lead` nodes on one thread before the split (0: none; polls come
+/// every 1,024 nodes, so a lead ends at the first poll at or past it). Tests set it, to
+/// decide boxes by the split with and without a lead whose dead profiles it inherits.
+pub(super) fn search_led(
+    items: &[Item],
+    w: f64,
+    d: f64,
+    stop: &dyn Fn() -> bool,
+    meter: Option<&Cell<u64>>,
+    threads: usize,
+    lead: u64,
+) -> (Outcome, u64) {
     if threads <= 1 || items.len() < 2 {
         let mut s = Search::new(items, w, d, stop).metered(meter);
         let r = s.run();
         return (r, s.nodes);
     }
+    // A lead on this thread first: most boxes are decided within it, without the split, the
+    // threads and their searches' set-up, which made two threads three to five times slower
+    // than one on the small sets (docs/algorithms.md, *A lead on one thread*). What it decides
+    // is the single thread's answer; what it leaves, the split below decides as one thread
+    // would, and the dead profiles it found go to the split's first thread.
+    let (mut lead_nodes, mut heirloom) = (0, None);
+    if lead > 0 {
+        let count = Cell::new(0);
+        let base = meter.map_or(0, |m| m.get());
+        let spent = || {
+            if let Some(m) = meter {
+                m.set(base + count.get());
+            }
+            count.get() >= lead || stop()
+        };
+        let mut first = Search::new(items, w, d, &spent).metered(Some(&count));
+        let r = first.run();
+        lead_nodes = first.nodes;
+        if !matches!(r, Outcome::Stopped) || stop() {
+            return (r, lead_nodes);
+        }
+        heirloom = Some(first.take_dead_profiles());
+        if let Some(m) = meter {
+            m.set(base + lead_nodes);
+        }
+    }
+    let heirloom = Mutex::new(heirloom);
     let never = || false;
     let mut root = Search::new(items, w, d, &never);
     let branches = root.tasks(SPLIT_AT, SPLIT_MOST);
@@ -174,6 +220,11 @@ pub(super) fn search(
         let current = Cell::new(usize::MAX);
         let own_stop = || pool.poll(poll() || packed_at.load(Relaxed) < current.get());
         let mut s = Search::new(items, w, d, &own_stop);
+        if me == 0 {
+            if let Some(dead) = heirloom.lock().expect("no thread panics holding it").take() {
+                s = s.with_dead_profiles(dead);
+            }
+        }
         while let Some(c) = pool.take(me).filter(|&c| c < packed_at.load(Relaxed)) {
             current.set(c);
             let r = s.run_task(&branches[c]);
@@ -188,7 +239,7 @@ pub(super) fn search(
         }
         s.nodes
     };
-    let nodes = pool.run(threads, stop, meter, &worker) + root.nodes;
+    let nodes = pool.run(threads, stop, meter, &worker) + root.nodes + lead_nodes;
     for r in results.into_inner().expect("no thread panicked holding it") {
         match r {
             Some(Outcome::Infeasible) => {}
