@@ -7,9 +7,11 @@ use std::fmt;
 /// One planner configuration of a benchmark: placement solver, sequencer and ablations.
 ///
 /// Grammar: `PLACEMENT+SEQUENCER[+OPTION]...` with PLACEMENT `bl|milp`, SEQUENCER
-/// `paper|astar`, OPTION an ablation `no-direct|no-multi-push` or `altN` (N ≥ 1: up to N
+/// `paper|astar`, OPTION an ablation `no-direct|no-multi-push`, `altN` (N ≥ 1: up to N
 /// alternative Bottom-Left placements when one is proven to have no plan,
-/// [`PlanOptions::placement_alternatives`]), each at most once, in any order. The canonical
+/// [`PlanOptions::placement_alternatives`]) or `threadsN` (N ≥ 1 threads for the exact
+/// placement's box searches and the inverse kinematics, [`PlanOptions::threads`]; the plan is
+/// the same, only the times change), each at most once, in any order. The canonical
 /// name lists them in that fixed order, so `bl+paper+no-multi-push+no-direct` and
 /// `bl+paper+no-direct+no-multi-push` are the same planner.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -31,6 +33,10 @@ pub struct PlannerSpec {
     /// Replay each plan in the physics engine (`simulate`) and fill the `sim_*` columns. Not an
     /// ablation: the plan is the same with or without it.
     pub simulate: bool,
+    /// Threads of one run (`threadsN`; 1 when absent, and `threads1` is the same planner). Not
+    /// an ablation either: the same plan on any number. With `--jobs J`, J × N threads run at
+    /// once.
+    pub threads: usize,
 }
 
 impl PlannerSpec {
@@ -69,8 +75,23 @@ impl PlannerSpec {
             placement_alternatives: 0,
             packing_only: false,
             simulate: false,
+            threads: 1,
         };
+        let mut threads_given = false;
         for a in &parts[2..] {
+            if let Some(n) = a.strip_prefix("threads") {
+                let n: usize = n.parse().ok().filter(|&n| n >= 1).ok_or_else(|| {
+                    bad(format!(
+                        "planner {text:?}: {a:?} must be threadsN with an integer N >= 1"
+                    ))
+                })?;
+                if threads_given {
+                    return Err(bad(format!("planner {text:?}: threads given twice")));
+                }
+                threads_given = true;
+                spec.threads = n;
+                continue;
+            }
             if let Some(n) = a.strip_prefix("alt") {
                 let n: usize = n
                     .parse()
@@ -90,7 +111,7 @@ impl PlannerSpec {
                 "simulate" => &mut spec.simulate,
                 other => {
                     return Err(bad(format!(
-                        "planner {text:?}: option must be packing-only, no-direct, no-multi-push, simulate or altN, got {other:?}"
+                        "planner {text:?}: option must be packing-only, no-direct, no-multi-push, simulate, altN or threadsN, got {other:?}"
                     )))
                 }
             };
@@ -136,6 +157,7 @@ impl PlannerSpec {
         o.no_multi_push = self.no_multi_push;
         o.placement_alternatives = self.placement_alternatives;
         o.packing_only = self.packing_only;
+        o.threads = self.threads;
         o.time_limit = time_limit;
         o
     }
@@ -167,6 +189,9 @@ impl fmt::Display for PlannerSpec {
         if self.simulate {
             write!(f, "+simulate")?;
         }
+        if self.threads > 1 {
+            write!(f, "+threads{}", self.threads)?;
+        }
         Ok(())
     }
 }
@@ -186,6 +211,8 @@ mod tests {
             ),
             ("bl+astar+no-multi-push", "bl+astar+no-multi-push"),
             ("bl+astar+alt5+no-direct", "bl+astar+no-direct+alt5"),
+            ("milp+astar+threads2+packing-only", "milp+astar+packing-only+threads2"),
+            ("milp+astar+threads1", "milp+astar"),
         ] {
             assert_eq!(PlannerSpec::parse(text, "--planners").unwrap().to_string(), canon);
         }
@@ -205,6 +232,13 @@ mod tests {
         )
         .unwrap();
         assert_eq!(a.options(&inst, 5.0).placement_alternatives, 3);
+        assert_eq!(a.options(&inst, 5.0).threads, 1);
+        let t = PlannerSpec::parse("milp+astar+threads2", "--planners").unwrap();
+        assert_eq!(t.options(&inst, 5.0).threads, 2);
+        assert_eq!(t.base().to_string(), "milp+astar+threads2");
+        // The same planner on one thread is the one without the option.
+        let l = PlannerSpec::parse_list("milp+astar,milp+astar+threads1,milp+astar+threads2", "--planners").unwrap();
+        assert_eq!(l.len(), 2);
     }
 
     #[test]
@@ -218,6 +252,9 @@ mod tests {
             ("bl+astar+altx", "altN with an integer N >= 1"),
             ("bl+astar+alt2+alt3", "alternatives given twice"),
             ("bl+paper+no-direct+no-direct", "given twice"),
+            ("milp+astar+threads0", "threadsN with an integer N >= 1"),
+            ("milp+astar+threads", "threadsN with an integer N >= 1"),
+            ("milp+astar+threads2+threads3", "threads given twice"),
             ("", "PLACEMENT+SEQUENCER"),
         ] {
             let e = PlannerSpec::parse(text, "--planners").unwrap_err();
