@@ -30,10 +30,10 @@ usage: cpsat_instances.py FILE... [--workers 2] [--time-limit 60] [--no-contact]
 prints one line per file: the optimal area (m^2), its box, boxes decided and seconds, then the
 best contact length (m), whether proven, and the contact stage's seconds (its own limit)
 """
-import json
-import subprocess
 import argparse
+import json
 import math
+import subprocess
 import time
 import tomllib
 
@@ -139,7 +139,7 @@ def model(objs, w, d, cont, contact):
         big = max(range(n), key=lambda i: min(a * b for a, b in objs[i]))
         m.add(2 * x[big] + ws[big] <= w)
         m.add(2 * y[big] + ds[big] <= d)
-        return m, None
+        return m
     reach = (w == cont[0], d == cont[1])
     terms = []
     for i in range(n):
@@ -185,7 +185,7 @@ def model(objs, w, d, cont, contact):
             m.add(pos[j] == 0).only_enforce_if(wall)
             m.add_bool_or([wall] + [touch[i, j, axis] for i in range(n) if i != j])
     m.maximize(sum(terms))
-    return m, terms
+    return m
 
 
 def solve(m, workers, limit):
@@ -212,13 +212,13 @@ def area_stage(objs, cont, workers, limit):
     for area, d, w in boxes_by_area(objs, cont):
         if best is not None and area > best:
             break
-        built = model(objs, w, d, cont, False)
-        if built is None:
+        m = model(objs, w, d, cont, False)
+        if m is None:
             continue
         left = limit - (time.monotonic() - start)
         if left <= 0:
             return best, packed, decided, False
-        s, st = solve(built[0], workers, left)
+        s, st = solve(m, workers, left)
         if st == cp_model.UNKNOWN or st == cp_model.MODEL_INVALID:
             return best, packed, decided, False
         decided += 1
@@ -235,15 +235,23 @@ def contact_stage(objs, cont, packed, workers, limit):
     boxes = list(packed) + [(d, w) for w, d in packed if w != d and d <= cont[0] and w <= cont[1]]
     best, proven = None, True
     for w, d in dict.fromkeys(boxes):
-        built = model(objs, w, d, cont, True)
-        if built is None:
+        m = model(objs, w, d, cont, True)
+        if m is None:
             continue
-        s, st = solve(built[0], workers, limit - (time.monotonic() - start))
+        s, st = solve(m, workers, limit - (time.monotonic() - start))
         if st in (cp_model.OPTIMAL, cp_model.FEASIBLE):
             v = round(s.objective_value)
             best = v if best is None else max(best, v)
         proven &= st in (cp_model.OPTIMAL, cp_model.INFEASIBLE)
     return best, proven
+
+
+def report_contact(name, objs, cont, boxes, step, a):
+    """Run the contact stage over `boxes` and print its line."""
+    t0 = time.monotonic()
+    c, ok = contact_stage(objs, cont, boxes, a.workers, a.time_limit)
+    shown = "none" if c is None else f"{c * step:.4f}"
+    print(f"{name} contact={shown} {'optimal' if ok else 'unproven'} {time.monotonic() - t0:.3f} s", flush=True)
 
 
 def main():
@@ -264,11 +272,7 @@ def main():
             cells = round(area_m / step / step)
             boxes = [(w, d) for area, d, w in boxes_by_area(objs, cont) if area == cells]
             print(f"{name} area={area_m:.6f} from pushpack, boxes of that area: {len(boxes)}", flush=True)
-            t0 = time.monotonic()
-            c, ok = contact_stage(objs, cont, boxes, a.workers, a.time_limit)
-            tc = time.monotonic() - t0
-            shown = "none" if c is None else f"{c * step:.4f}"
-            print(f"{name} contact={shown} {'optimal' if ok else 'unproven'} {tc:.3f} s", flush=True)
+            report_contact(name, objs, cont, boxes, step, a)
             continue
         t0 = time.monotonic()
         area, packed, decided, proven = area_stage(objs, cont, a.workers, a.time_limit)
@@ -281,13 +285,8 @@ def main():
             f"box={packed[0][0] * step:.3f}x{packed[0][1] * step:.3f} boxes={decided} {ta:.3f} s",
             flush=True,
         )
-        if a.no_contact or not proven:
-            continue
-        t0 = time.monotonic()
-        c, ok = contact_stage(objs, cont, packed, a.workers, a.time_limit)
-        tc = time.monotonic() - t0
-        shown = "none" if c is None else f"{c * step:.4f}"
-        print(f"{name} contact={shown} {'optimal' if ok else 'unproven'} {tc:.3f} s", flush=True)
+        if not a.no_contact and proven:
+            report_contact(name, objs, cont, packed, step, a)
 
 
 if __name__ == "__main__":

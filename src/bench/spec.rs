@@ -77,31 +77,24 @@ impl PlannerSpec {
             simulate: false,
             threads: 1,
         };
-        let mut threads_given = false;
+        // The numbered options, `altN` and `threadsN`: each N >= 1, each at most once.
+        let (mut alternatives, mut threads) = (None, None);
         for a in &parts[2..] {
-            if let Some(n) = a.strip_prefix("threads") {
+            let numbered = [
+                ("alt", "alternatives", &mut alternatives),
+                ("threads", "threads", &mut threads),
+            ]
+            .into_iter()
+            .find_map(|(prefix, what, slot)| a.strip_prefix(prefix).map(|n| (prefix, what, slot, n)));
+            if let Some((prefix, what, slot, n)) = numbered {
                 let n: usize = n.parse().ok().filter(|&n| n >= 1).ok_or_else(|| {
                     bad(format!(
-                        "planner {text:?}: {a:?} must be threadsN with an integer N >= 1"
+                        "planner {text:?}: {a:?} must be {prefix}N with an integer N >= 1"
                     ))
                 })?;
-                if threads_given {
-                    return Err(bad(format!("planner {text:?}: threads given twice")));
+                if slot.replace(n).is_some() {
+                    return Err(bad(format!("planner {text:?}: {what} given twice")));
                 }
-                threads_given = true;
-                spec.threads = n;
-                continue;
-            }
-            if let Some(n) = a.strip_prefix("alt") {
-                let n: usize = n
-                    .parse()
-                    .ok()
-                    .filter(|&n| n >= 1)
-                    .ok_or_else(|| bad(format!("planner {text:?}: {a:?} must be altN with an integer N >= 1")))?;
-                if spec.placement_alternatives > 0 {
-                    return Err(bad(format!("planner {text:?}: alternatives given twice")));
-                }
-                spec.placement_alternatives = n;
                 continue;
             }
             let flag = match *a {
@@ -120,6 +113,8 @@ impl PlannerSpec {
             }
             *flag = true;
         }
+        spec.placement_alternatives = alternatives.unwrap_or(0);
+        spec.threads = threads.unwrap_or(1);
         Ok(spec)
     }
 
