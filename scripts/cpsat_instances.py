@@ -26,13 +26,22 @@ area (`place FILE --solver milp --json`), and CP-SAT decides only the boxes of t
 by its contact model at once (an infeasible box is then proven so by CP-SAT), so that the
 contact stages can be compared where CP-SAT's area stage does not finish.
 
+With `--bounds` each box of the area stage first meets the bounds pushpack decides boxes by
+before its search (`opp::refuted_by_bounds`: every object fits, the least total area, objects
+wider than half the box stack, and the dual-feasible functions of Fekete and Schepers on both
+axes, every pair); a box they refute is not given to CP-SAT, so that the comparison is of the
+searches rather than of the bounds. Their time counts in the area stage.
+
 usage: cpsat_instances.py FILE... [--workers 2] [--time-limit 60] [--no-contact] [--area-from BIN]
-prints one line per file: the optimal area (m^2), its box, boxes decided and seconds, then the
+                          [--bounds]
+prints one line per file: the optimal area (m^2), its box, boxes decided (and refuted by the
+bounds) and seconds, then the
 best contact length (m), whether proven, and the contact stage's seconds (its own limit)
 """
 import argparse
 import json
 import math
+from fractions import Fraction
 import subprocess
 import time
 import tomllib
@@ -188,6 +197,39 @@ def model(objs, w, d, cont, contact):
     return m
 
 
+def dffs(c, sizes):
+    """Dual-feasible functions for capacity c, on integer sizes, exactly (pushpack's `opp::dffs`):
+    the identity, U^e for every size e <= c/2 (sizes above c - e become c, below e vanish), and
+    u^(k) for k = 1..4 (floor((k+1)x/c) c/k, unless (k+1)x/c is an integer)."""
+    out = [lambda v: Fraction(v)]
+    for e in sorted({v for v in sizes if 0 < 2 * v <= c}):
+        out.append(lambda v, e=e: Fraction(c) if v > c - e else Fraction(0) if v < e else Fraction(v))
+    for k in range(1, 5):
+        q = k + 1
+        out.append(lambda v, q=q, k=k: Fraction(v) if (q * v) % c == 0 else Fraction((q * v) // c * c, k))
+    return out
+
+
+def refuted(objs, w, d):
+    """True when a bound proves that no packing of `objs` fits the box w x d."""
+    fits = [[f for f in fps if f[0] <= w and f[1] <= d] for fps in objs]
+    if any(not f for f in fits):
+        return True
+    if sum(min(a * b for a, b in f) for f in fits) > w * d:
+        return True
+    for axis, (cap, other) in enumerate(((w, d), (d, w))):
+        stack = sum(min(g[1 - axis] for g in f) for f in fits if all(2 * g[axis] > cap for g in f))
+        if stack > other:
+            return True
+    fx = dffs(w, [g[0] for f in fits for g in f])
+    fy = dffs(d, [g[1] for f in fits for g in f])
+    for f in fx:
+        for g in fy:
+            if sum(min(f(a) * g(b) for a, b in o) for o in fits) > w * d:
+                return True
+    return False
+
+
 def solve(m, workers, limit):
     s = cp_model.CpSolver()
     s.parameters.num_workers = workers
@@ -204,28 +246,33 @@ def boxes_by_area(objs, cont):
     return sorted(((a * b, b, a) for a in widths for b in depths if a * b >= lb), key=lambda t: (t[0], t[1]))
 
 
-def area_stage(objs, cont, workers, limit):
-    """The optimal area (grid cells) and its feasible boxes, the boxes decided, and whether
-    proven (None: stopped)."""
+def area_stage(objs, cont, workers, limit, bounds=False):
+    """The optimal area (grid cells) and its feasible boxes, the boxes CP-SAT decided and those
+    the bounds refuted (with `bounds`), and whether proven (None: stopped)."""
     start = time.monotonic()
-    decided, best, packed = 0, None, []
+    decided, by_bounds, best, packed = 0, 0, None, []
     for area, d, w in boxes_by_area(objs, cont):
         if best is not None and area > best:
             break
+        if bounds and refuted(objs, w, d):
+            by_bounds += 1
+            if time.monotonic() - start > limit:
+                return best, packed, (decided, by_bounds), False
+            continue
         m = model(objs, w, d, cont, False)
         if m is None:
             continue
         left = limit - (time.monotonic() - start)
         if left <= 0:
-            return best, packed, decided, False
+            return best, packed, (decided, by_bounds), False
         s, st = solve(m, workers, left)
         if st == cp_model.UNKNOWN or st == cp_model.MODEL_INVALID:
-            return best, packed, decided, False
+            return best, packed, (decided, by_bounds), False
         decided += 1
         if st in (cp_model.OPTIMAL, cp_model.FEASIBLE):
             best = area
             packed.append((w, d))
-    return best, packed, decided, best is not None
+    return best, packed, (decided, by_bounds), best is not None
 
 
 def contact_stage(objs, cont, packed, workers, limit):
@@ -261,6 +308,7 @@ def main():
     p.add_argument("--time-limit", type=float, default=60.0)
     p.add_argument("--no-contact", action="store_true")
     p.add_argument("--area-from", metavar="BIN", help="a pushpack binary that proves the optimal area")
+    p.add_argument("--bounds", action="store_true", help="boxes pushpack's bounds refute are not given to CP-SAT")
     a = p.parse_args()
     for path in a.files:
         cont_m, objects = load(path)
@@ -275,14 +323,15 @@ def main():
             report_contact(name, objs, cont, boxes, step, a)
             continue
         t0 = time.monotonic()
-        area, packed, decided, proven = area_stage(objs, cont, a.workers, a.time_limit)
+        area, packed, (decided, by_bounds), proven = area_stage(objs, cont, a.workers, a.time_limit, a.bounds)
         ta = time.monotonic() - t0
+        boxes = f"boxes={decided}" + (f" refuted_by_bounds={by_bounds}" if a.bounds else "")
         if area is None:
-            print(f"{name} area=none boxes={decided} {ta:.3f} s", flush=True)
+            print(f"{name} area=none {boxes} {ta:.3f} s", flush=True)
             continue
         print(
             f"{name} area={area * step * step:.6f} {'optimal' if proven else 'unproven'} "
-            f"box={packed[0][0] * step:.3f}x{packed[0][1] * step:.3f} boxes={decided} {ta:.3f} s",
+            f"box={packed[0][0] * step:.3f}x{packed[0][1] * step:.3f} {boxes} {ta:.3f} s",
             flush=True,
         )
         if not a.no_contact and proven:
