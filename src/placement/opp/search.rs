@@ -1,7 +1,7 @@
 //! The exact search for one box: the x-phase over left edges under the bar relaxation, then the
 //! y-phase for each complete x-assignment (module doc of [`super`] says why it is exact).
 
-use super::dominance::dominated;
+use super::dominance::{dominated, Sig};
 use super::*;
 use smallvec::SmallVec;
 use std::cell::Cell;
@@ -60,8 +60,13 @@ fn low_bits(n: usize) -> u64 {
 }
 
 /// The open objects of an x-phase state, sorted `(end, depth)` in tolerance units, as where
-/// they start in [`Search::arena`] and how many there are.
+/// they start in [`Search::arena`] and how many there are. The two entries before them hold
+/// their [`Sig`] ([`sig_in_arena`]): kept there, not here, the lists in the hash table's slots
+/// stay small (24-byte profiles in the slots cost the area stage more than the signature saved).
 type Profile = (u32, u32);
+
+/// Dead profiles listed for a state, at least, before [`Sig`] is asked first.
+const SIG_FROM: usize = 4;
 
 /// Profiles by (placed set, position), as [`Search`] keeps them: dead ones, or those its
 /// probes got through.
@@ -79,6 +84,11 @@ pub(super) struct DeadProfiles {
 /// The entries of profile `p` in `arena`.
 fn in_arena(arena: &[(i32, i32)], (start, len): Profile) -> &[(i32, i32)] {
     &arena[start as usize..(start + len) as usize]
+}
+
+/// The [`Sig`] of profile `p`, stored in `arena` just before it.
+fn sig_in_arena(arena: &[(i32, i32)], (start, _): Profile) -> Sig {
+    Sig::from_words(&arena[start as usize - 2..start as usize])
 }
 
 /// One branch of an x-phase node: an object started at the current position, `Some((item,
@@ -725,14 +735,6 @@ impl<'a> Search<'a> {
         });
         let cut = if let Some(k) = &key {
             let profile = self.profile_of(k);
-            let at = |&p: &Profile| in_arena(&self.arena, p);
-            let same = |a: &Profile| {
-                if self.dominance {
-                    dominated(profile, at(a))
-                } else {
-                    at(a) == profile
-                }
-            };
             // A probe consults only its own list; the search both (what a probe refutes is dead
             // for the search too, whichever way the left-out items were placed).
             let probes = (self.probe_items != 0)
@@ -741,6 +743,20 @@ impl<'a> Search<'a> {
             let own = (!self.probing)
                 .then(|| self.dominant[0].get(&(self.placed_mask, k[1].0)))
                 .flatten();
+            // The signature pays only before lists of a few profiles (computing it costs about
+            // two scans); shorter ones are scanned as they are.
+            let listed = probes.map_or(0, |l| l.len()) + own.map_or(0, |l| l.len());
+            let sig = (self.signed() && listed >= SIG_FROM).then(|| self.sig_of(profile, k[1].0));
+            let at = |&p: &Profile| in_arena(&self.arena, p);
+            let same = |a: &Profile| {
+                if self.dominance {
+                    let passes = || sig.is_none_or(|s| s.may_dominate(sig_in_arena(&self.arena, *a)));
+                    debug_assert!(passes() || !dominated(profile, at(a)));
+                    passes() && dominated(profile, at(a))
+                } else {
+                    at(a) == profile
+                }
+            };
             let dead_in = |l: Option<&SmallVec<[Profile; 2]>>| l.is_some_and(|l| l.iter().any(same));
             let exact_in = |l: Option<&SmallVec<[Profile; 2]>>| l.is_some_and(|l| l.iter().any(|a| at(a) == profile));
             let dead = dead_in(probes) || dead_in(own);
@@ -810,7 +826,7 @@ impl<'a> Search<'a> {
         if any {
             // No complete x-assignment extends it, whatever the contact bound.
             let profile = self.profile_of(key);
-            let at = self.keep_profile(profile);
+            let at = self.keep_profile(profile, key[1].0);
             // A probe's dead state goes to the probes' list, which the search consults too; the
             // search's own dead states only to its own list (they may need the left-out items).
             let (m, set) = if probed {
@@ -823,7 +839,10 @@ impl<'a> Search<'a> {
             let before = list.len();
             if self.dominance {
                 let arena = &self.arena;
-                list.retain(|p| !dominated(in_arena(arena, *p), profile));
+                let sig = sig_in_arena(arena, at);
+                list.retain(|p| {
+                    !(sig_in_arena(arena, *p).may_dominate(sig) && dominated(in_arena(arena, *p), profile))
+                });
             }
             self.dominant_len = self.dominant_len + 1 + list.len() - before;
             list.push(at);
@@ -850,12 +869,32 @@ impl<'a> Search<'a> {
     /// within u32) starts afresh: the depth-first search meets again the states it left
     /// recently, not the first ones (the hardest box of squares 1…21, 71 × 47: 83 M nodes
     /// keeping the first 2 M states, 32 M starting afresh).
-    fn keep_profile(&mut self, profile: &[(i32, i32)]) -> Profile {
-        if self.dominant_len >= self.memo_cap || self.arena.len() + profile.len() > ARENA_MAX {
+    /// Whether dead profiles carry a [`Sig`]: only where the lists grow long, enumerating under
+    /// a contact bound (in the area stage, computing it at every record cost more than it
+    /// saved: n20_k4_s0008's and s0006's area stages 4–5 % slower, medians of fifteen).
+    fn signed(&self) -> bool {
+        self.dominance && self.cbound.is_some()
+    }
+
+    /// The [`Sig`] of `profile` at the position `t` (in tolerance units, as in the key).
+    fn sig_of(&self, profile: &[(i32, i32)], t: i32) -> Sig {
+        let q = |v: f64| (v / self.t + 0.5) as i64;
+        Sig::of(profile, t as i64, q(self.w), q(self.d))
+    }
+
+    fn keep_profile(&mut self, profile: &[(i32, i32)], t: i32) -> Profile {
+        if self.dominant_len >= self.memo_cap || self.arena.len() + 2 + profile.len() > ARENA_MAX {
             self.dominant.iter_mut().for_each(HashMap::clear);
             self.dominant_len = 0;
             self.arena.clear();
         }
+        let sig = if self.signed() {
+            self.sig_of(profile, t)
+        } else {
+            Sig::NONE
+        };
+        let words = sig.words();
+        self.arena.extend_from_slice(&words);
         let at: Profile = (self.arena.len() as u32, profile.len() as u32);
         self.arena.extend_from_slice(profile);
         at
@@ -880,7 +919,7 @@ impl<'a> Search<'a> {
         if self.known_alive(key) || !self.witnesses {
             return;
         }
-        let at = self.keep_profile(self.profile_of(key));
+        let at = self.keep_profile(self.profile_of(key), key[1].0);
         self.dominant[2]
             .entry((self.probe_set(), key[1].0))
             .or_default()
