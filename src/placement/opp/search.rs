@@ -834,14 +834,17 @@ impl<'a> Search<'a> {
             } else {
                 (0, self.placed_mask)
             };
+            let signed = self.signed();
             let list = self.dominant[m].entry((set, key[1].0)).or_default();
             // Records this one dominates are redundant: whatever they cut, it cuts.
             let before = list.len();
             if self.dominance {
                 let arena = &self.arena;
-                let sig = sig_in_arena(arena, at);
+                // Without signatures (the area stage) every record is scanned.
+                let sig = signed.then(|| sig_in_arena(arena, at));
                 list.retain(|p| {
-                    !(sig_in_arena(arena, *p).may_dominate(sig) && dominated(in_arena(arena, *p), profile))
+                    let passes = sig.is_none_or(|s| sig_in_arena(arena, *p).may_dominate(s));
+                    !(passes && dominated(in_arena(arena, *p), profile))
                 });
             }
             self.dominant_len = self.dominant_len + 1 + list.len() - before;
@@ -865,10 +868,6 @@ impl<'a> Search<'a> {
         &key[2..key.len() - self.cbound.is_some() as usize]
     }
 
-    /// Put `profile` in the arena, for one of the lists of `dominant`. A full memo (or arena,
-    /// within u32) starts afresh: the depth-first search meets again the states it left
-    /// recently, not the first ones (the hardest box of squares 1…21, 71 × 47: 83 M nodes
-    /// keeping the first 2 M states, 32 M starting afresh).
     /// Whether dead profiles carry a [`Sig`]: only where the lists grow long, enumerating under
     /// a contact bound (in the area stage, computing it at every record cost more than it
     /// saved: n20_k4_s0008's and s0006's area stages 4–5 % slower, medians of fifteen).
@@ -882,6 +881,10 @@ impl<'a> Search<'a> {
         Sig::of(profile, t as i64, q(self.w), q(self.d))
     }
 
+    /// Put `profile` in the arena, for one of the lists of `dominant`. A full memo (or arena,
+    /// within u32) starts afresh: the depth-first search meets again the states it left
+    /// recently, not the first ones (the hardest box of squares 1…21, 71 × 47: 83 M nodes
+    /// keeping the first 2 M states, 32 M starting afresh).
     fn keep_profile(&mut self, profile: &[(i32, i32)], t: i32) -> Profile {
         if self.dominant_len >= self.memo_cap || self.arena.len() + 2 + profile.len() > ARENA_MAX {
             self.dominant.iter_mut().for_each(HashMap::clear);
