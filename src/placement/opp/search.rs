@@ -302,6 +302,12 @@ pub struct Search<'a> {
     pub(super) ymemo_cuts: u64,
     /// Packings the y-phase has reached (complete y-assignments).
     yvisited: u64,
+    /// Buffers of [`Self::ycheck`] kept between x-assignments: the placed flags and tops, the
+    /// item edges, and emptied lists for the groups and columns.
+    ydone: Vec<bool>,
+    ytop: Vec<f64>,
+    yedges: Vec<f64>,
+    ypool: Vec<Vec<usize>>,
 }
 
 impl<'a> Search<'a> {
@@ -481,6 +487,10 @@ impl<'a> Search<'a> {
             ymemo_on: true,
             ymemo: HashMap::default(),
             ykey_pool: Vec::new(),
+            ydone: Vec::new(),
+            ytop: Vec::new(),
+            yedges: Vec::new(),
+            ypool: Vec::new(),
             ypast: 0.0,
             ypast_ok: false,
             ylookups: 0,

@@ -23,6 +23,9 @@ use super::*;
 /// Most y-states remembered per complete x-assignment before the memo starts afresh.
 const YMEMO_MAX: usize = 1 << 16;
 
+/// Most emptied key buffers kept for reuse when the memo starts afresh.
+const KEY_POOL: usize = 1 << 12;
+
 /// Lookups the memo gets before it must show that it pays, and the share of them that must
 /// cut (one in `YMEMO_RATE`) for it to go on. Its key costs about as much as a y-node, and on
 /// most instances it cuts next to nothing: always on, it took 12–16 % more instructions on
@@ -50,7 +53,8 @@ impl Search<'_> {
         let t = self.t;
         // Positions in tolerance units, as the x-phase's memo keys them.
         let q = |v: f64| (v / t + 0.5) as u64;
-        let mut key = self.ykey_pool.pop().unwrap_or_default();
+        // A fresh buffer has room for a typical key, so that it is not grown push by push.
+        let mut key = self.ykey_pool.pop().unwrap_or_else(|| Vec::with_capacity(4 * n));
         key.clear();
         key.push((0..n).filter(|&i| done[i]).fold(0u64, |m, i| m | 1 << i));
         key.push(q(last_y));
@@ -80,6 +84,19 @@ impl Search<'_> {
         key
     }
 
+    /// Empty the memo, its keys' buffers back to the pool (at most [`KEY_POOL`] kept): each
+    /// record takes a buffer with it, and new ones grown push by push were about 2 % of the
+    /// y-phase's instructions on n20_k4_s0017.
+    pub(super) fn ymemo_forget(&mut self) {
+        let room = KEY_POOL.saturating_sub(self.ykey_pool.len());
+        let pool = &mut self.ykey_pool;
+        for (i, (key, _)) in self.ymemo.drain().enumerate() {
+            if i < room {
+                pool.push(key);
+            }
+        }
+    }
+
     /// Whether a recorded visit of `key` proves that nothing below it beats the bound `bound`
     /// with `ypast` made.
     pub(super) fn ymemo_dead(&self, key: &[u64], bound: f64) -> bool {
@@ -92,7 +109,7 @@ impl Search<'_> {
     /// Record that below `key` nothing beat `bound` with `ypast` made, and return the buffer.
     pub(super) fn ymemo_record(&mut self, key: Vec<u64>, bound: f64) {
         if self.ymemo.len() >= YMEMO_MAX {
-            self.ymemo.clear();
+            self.ymemo_forget();
         }
         let v = self.ypast - bound;
         match self.ymemo.get_mut(&key) {

@@ -82,25 +82,35 @@ impl Search<'_> {
     pub(super) fn ycheck(&mut self) -> bool {
         self.yleaves += 1;
         let n = self.items.len();
-        let mut done = vec![false; n];
-        let mut top = vec![0.0; n];
+        // Buffers kept between x-assignments: allocating these per call was a tenth of the
+        // y-phase's instructions on n20_k4_s0017 (callgrind).
+        let mut done = std::mem::take(&mut self.ydone);
+        let mut top = std::mem::take(&mut self.ytop);
+        done.clear();
+        done.resize(n, false);
+        top.clear();
+        top.resize(n, 0.0);
         let t = self.t;
         // What the y-phase asks at every node, fixed by the x-assignment: computed once here
         // (the y-phase is nine tenths of the contact enumeration's time on squares 1…18).
-        self.ydims = (0..n).map(|i| self.dims(i)).collect();
+        self.ydims.clear();
+        self.ydims.extend((0..n).map(|i| self.items[i].opts[self.opt[i]]));
         self.yfloor.resize(n * (n + 1), 0.0);
         for i in 0..n {
-            self.ytwins[i] = (0..i)
-                .filter(|&j| {
-                    self.items[j].class == self.items[i].class
-                        && self.opt[j] == self.opt[i]
-                        && (self.x0[j] - self.x0[i]).abs() <= t
-                })
-                .collect();
+            let twins = &mut self.ytwins[i];
+            twins.clear();
+            twins.extend((0..i).filter(|&j| {
+                self.items[j].class == self.items[i].class
+                    && self.opt[j] == self.opt[i]
+                    && (self.x0[j] - self.x0[i]).abs() <= t
+            }));
         }
         for k in 0..n {
             let (a0, a1) = (self.x0[k], self.x0[k] + self.ydims[k][0]);
-            let (mut cover, mut over, mut left) = (Vec::new(), Vec::new(), Vec::new());
+            let (cover, over, left) = (&mut self.ycover[k], &mut self.yover[k], &mut self.yleft[k]);
+            cover.clear();
+            over.clear();
+            left.clear();
             for j in 0..n {
                 let (b0, b1) = (self.x0[j], self.x0[j] + self.ydims[j][0]);
                 if b0 <= a0 + t && b1 > a0 + t {
@@ -113,9 +123,6 @@ impl Search<'_> {
                     left.push(j);
                 }
             }
-            self.ycover[k] = cover;
-            self.yover[k] = over;
-            self.yleft[k] = left;
         }
         self.yright.iter_mut().for_each(Vec::clear);
         for k in 0..n {
@@ -125,7 +132,11 @@ impl Search<'_> {
             }
         }
         if self.visit.is_some() {
-            self.ygroups.clear();
+            // Groups' buffers go back to the pool and come out again in this order.
+            self.ypool.extend(self.ygroups.drain(..).map(|mut g| {
+                g.clear();
+                g
+            }));
             for k in (0..n).filter(|&k| self.x0[k] > t) {
                 match self
                     .ygroups
@@ -133,38 +144,46 @@ impl Search<'_> {
                     .find(|g| (self.x0[g[0]] - self.x0[k]).abs() <= t)
                 {
                     Some(g) => g.push(k),
-                    None => self.ygroups.push(vec![k]),
+                    None => {
+                        let mut g = self.ypool.pop().unwrap_or_default();
+                        g.push(k);
+                        self.ygroups.push(g);
+                    }
                 }
             }
-            self.ygroup_ends = (self.ygroups.iter())
-                .map(|group| {
-                    let ends: f64 = self.yleft[group[0]].iter().map(|&j| self.ydims[j][1]).sum();
-                    let sides: f64 = group.iter().map(|&k| self.ydims[k][1]).sum();
-                    (ends, ends.min(sides))
-                })
-                .collect();
+            self.ygroup_ends.clear();
+            for group in &self.ygroups {
+                let ends: f64 = self.yleft[group[0]].iter().map(|&j| self.ydims[j][1]).sum();
+                let sides: f64 = group.iter().map(|&k| self.ydims[k][1]).sum();
+                self.ygroup_ends.push((ends, ends.min(sides)));
+            }
         }
-        self.ycols.clear();
+        self.ypool.extend(self.ycols.drain(..).map(|(_, mut c)| {
+            c.clear();
+            c
+        }));
         // Widths where the items stack to less than the box's depth.
         let mut room = 0.0;
         if self.cbound.is_some() {
-            let mut edges: Vec<f64> = (0..n)
-                .flat_map(|i| [self.x0[i], self.x0[i] + self.ydims[i][0]])
-                .chain([self.w])
-                .collect();
+            let mut edges = std::mem::take(&mut self.yedges);
+            edges.clear();
+            edges.extend((0..n).flat_map(|i| [self.x0[i], self.x0[i] + self.ydims[i][0]]));
+            edges.push(self.w);
             edges.sort_by(f64::total_cmp);
             edges.dedup_by(|a, b| *a - *b <= t);
             for e in edges.windows(2) {
-                let cover: Vec<usize> = (0..n)
-                    .filter(|&j| self.x0[j] <= e[0] + t && self.x0[j] + self.ydims[j][0] >= e[1] - t)
-                    .collect();
+                let mut cover = self.ypool.pop().unwrap_or_default();
+                cover.extend((0..n).filter(|&j| self.x0[j] <= e[0] + t && self.x0[j] + self.ydims[j][0] >= e[1] - t));
                 if cover.iter().map(|&j| self.ydims[j][1]).sum::<f64>() < self.d - t {
                     room += e[1] - e[0];
                 }
-                if !cover.is_empty() {
+                if cover.is_empty() {
+                    self.ypool.push(cover);
+                } else {
                     self.ycols.push((e[1] - e[0], cover));
                 }
             }
+            self.yedges = edges;
         }
         self.prepare_grid();
         // The far walls, where they count: the right one touches exactly the items ending at
@@ -183,13 +202,14 @@ impl Search<'_> {
         self.ypast_ok = false;
         // Clearing touches every bucket of what the map once held, empty or not.
         if !self.ymemo.is_empty() {
-            self.ymemo.clear();
+            self.ymemo_forget();
         }
         // Counted where the far walls' bound took contact off and the root was cut.
         let walls = self.ub_x < self.contact_ub() || self.ygaps > 0.0;
         let nodes = self.nodes;
         let found = self.yphase(&mut done, &mut top, 0.0, 0, 0);
         self.walls_cuts += (walls && !found && self.nodes == nodes + 1) as u64;
+        (self.ydone, self.ytop) = (done, top);
         found
     }
 
