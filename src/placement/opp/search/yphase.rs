@@ -93,8 +93,10 @@ impl Search<'_> {
         let t = self.t;
         // What the y-phase asks at every node, fixed by the x-assignment: computed once here
         // (the y-phase is nine tenths of the contact enumeration's time on squares 1…18).
-        self.ydims.clear();
-        self.ydims.extend((0..n).map(|i| self.items[i].opts[self.opt[i]]));
+        let mut ydims = std::mem::take(&mut self.ydims);
+        ydims.clear();
+        ydims.extend((0..n).map(|i| self.dims(i)));
+        self.ydims = ydims;
         self.yfloor.resize(n * (n + 1), 0.0);
         for i in 0..n {
             let twins = &mut self.ytwins[i];
