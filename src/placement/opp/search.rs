@@ -76,7 +76,7 @@ type Profiles = HashMap<(u64, i32), SmallVec<[Profile; 2]>, BuildHasherDefault<F
 /// to a later search of the same box ([`Search::take_dead_profiles`]).
 #[derive(Default)]
 pub(super) struct DeadProfiles {
-    lists: [Profiles; 3],
+    lists: [Profiles; 4],
     len: usize,
     arena: Vec<(i32, i32)>,
 }
@@ -84,6 +84,18 @@ pub(super) struct DeadProfiles {
 /// The entries of profile `p` in `arena`.
 fn in_arena(arena: &[(i32, i32)], (start, len): Profile) -> &[(i32, i32)] {
     &arena[start as usize..(start + len) as usize]
+}
+
+/// Whether every end of the profile `b` is an end of `a` (both sorted `(end, depth)`): then the
+/// x-phase below `a` moves through every position it moves through below `b`, which a record
+/// dead only given the rows check needs before it cuts a state that loads the columns more
+/// (docs/algorithms.md, *Rows ahead*).
+fn ends_within(b: &[(i32, i32)], a: &[(i32, i32)]) -> bool {
+    let mut ea = a.iter().map(|e| e.0).peekable();
+    b.iter().all(|&(e, _)| {
+        while ea.next_if(|&x| x < e).is_some() {}
+        ea.peek() == Some(&e)
+    })
 }
 
 /// The [`Sig`] of profile `p`, stored in `arena` just before it.
@@ -145,6 +157,17 @@ pub struct Search<'a> {
     /// The depths' common grid, for the subset sums of [`Self::capacity_refutes`] (`None`: no
     /// grid coarse enough; free depth then counts in full), and its bitset buffers.
     grid: Option<subset::Grid>,
+    /// The widths' common grid, for [`Self::rows_refute`] (`None`: none, or more than 63 steps
+    /// across the box, beyond one word).
+    wgrid: Option<subset::Grid>,
+    /// Whether the x-phase checks the rows ahead ([`Self::rows_refute`]; off only in tests),
+    /// the nodes it cut, and the cuts that made a subtree's failure depend on it: row cuts and
+    /// hits of records that counted one (`dominant[3]`).
+    pub(super) rows_on: bool,
+    pub(super) row_cuts: u64,
+    rpruned: u64,
+    /// States cut by a record of `dominant[3]` (counted for the tests).
+    pub(super) row_dominance_cuts: u64,
     buf_bits: Vec<u64>,
     buf_tmp: Vec<u64>,
     /// First item of the largest class, kept in the lower-left quarter (mirror symmetry).
@@ -177,8 +200,11 @@ pub struct Search<'a> {
     /// without the left-out items ([`Self::probe_set`]). Probes consult only theirs, the search
     /// both: what a probe finds dead is dead for the search too. A third, keyed as the probes',
     /// holds the states on the paths by which probes reached a complete x-assignment, where a
-    /// probe would find the same again ([`Self::known_alive`]).
-    dominant: [Profiles; 3],
+    /// probe would find the same again ([`Self::known_alive`]). A fourth, keyed as the search's,
+    /// holds its dead states whose subtrees the rows check cut ([`Self::rows_refute`]): not
+    /// dead under the bar relaxation, they cut only states whose open objects end where theirs
+    /// do ([`ends_within`]; docs/algorithms.md, *Rows ahead*).
+    dominant: [Profiles; 4],
     dominant_len: usize,
     /// The profiles of `dominant`, one after the other: a box per profile made allocation and
     /// freeing about a tenth of the contact enumeration's time (`perf`, squares 1…21). Those
@@ -417,6 +443,11 @@ impl<'a> Search<'a> {
             buf_pieces: Vec::new(),
             buf_fill: Vec::new(),
             grid: subset::Grid::new(items, w, d),
+            wgrid: subset::Grid::new(&super::turned(items), d, w).filter(|g| g.one_word()),
+            rows_on: true,
+            row_cuts: 0,
+            rpruned: 0,
+            row_dominance_cuts: 0,
             buf_bits: Vec::new(),
             buf_tmp: Vec::new(),
             anchor,
@@ -700,6 +731,17 @@ impl<'a> Search<'a> {
             s.cpruned += cut as u64;
             cut
         };
+        // The rows ahead (`rows_refute`): a cut the bar relaxation does not make, so a subtree it
+        // cut is dead only given it (`dominant[3]`); last, after every cut that holds under the
+        // relaxation. Only under a contact bound: in the area stage the records it costs the
+        // bar's dominance cost more than it cuts (n20_k4_s0014 0.94 M → 3.9 M nodes).
+        let used = placed_area + rem_area + waste;
+        let rows_cut = |s: &mut Self| {
+            let cut = s.rows_on && s.cbound.is_some() && !s.probing && s.rows_refute(t, used);
+            s.rpruned += cut as u64;
+            s.row_cuts += cut as u64;
+            cut
+        };
         if self.probing && self.xends.len() + (self.probe_items & !self.placed_mask).count_ones() as usize == n {
             return true;
         }
@@ -753,9 +795,13 @@ impl<'a> Search<'a> {
             let own = (!self.probing)
                 .then(|| self.dominant[0].get(&(self.placed_mask, k[1].0)))
                 .flatten();
+            // Empty in the area stage, which does not check rows: no lookup there.
+            let rowed = (!self.probing && !self.dominant[3].is_empty())
+                .then(|| self.dominant[3].get(&(self.placed_mask, k[1].0)))
+                .flatten();
             // The signature pays only before lists of a few profiles (computing it costs about
             // two scans); shorter ones are scanned as they are.
-            let listed = probes.map_or(0, |l| l.len()) + own.map_or(0, |l| l.len());
+            let listed = probes.map_or(0, |l| l.len()) + own.map_or(0, |l| l.len()) + rowed.map_or(0, |l| l.len());
             let sig = (self.signed() && listed >= SIG_FROM).then(|| self.sig_of(profile, k[1].0));
             let at = |&p: &Profile| in_arena(&self.arena, p);
             let same = |a: &Profile| {
@@ -769,8 +815,14 @@ impl<'a> Search<'a> {
             };
             let dead_in = |l: Option<&SmallVec<[Profile; 2]>>| l.is_some_and(|l| l.iter().any(same));
             let exact_in = |l: Option<&SmallVec<[Profile; 2]>>| l.is_some_and(|l| l.iter().any(|a| at(a) == profile));
-            let dead = dead_in(probes) || dead_in(own);
-            self.dominance_cuts += (dead && !exact_in(probes) && !exact_in(own)) as u64;
+            let mut dead = dead_in(probes) || dead_in(own);
+            let exact = exact_in(probes) || exact_in(own) || exact_in(rowed);
+            // Dead only given the rows check: whatever it cuts depends on that check too.
+            let by_rows = !dead && rowed.is_some_and(|l| l.iter().any(|a| same(a) && ends_within(profile, at(a))));
+            dead |= by_rows;
+            self.dominance_cuts += (dead && !exact) as u64;
+            self.rpruned += by_rows as u64;
+            self.row_dominance_cuts += by_rows as u64;
             // No capacity check here, where `t` has just advanced: the parent passed it with the
             // same objects and one more piece, and the waste check above sees most of what the
             // lost piece takes away. It refuted at most 0.5 % of these nodes on n20_k4_s0004,
@@ -788,8 +840,9 @@ impl<'a> Search<'a> {
                     self.cpruned += hit as u64;
                     hit
                 })
+                || rows_cut(self)
         } else {
-            self.capacity_refutes(t, min_idx) || contact_cut(self)
+            self.capacity_refutes(t, min_idx) || contact_cut(self) || rows_cut(self)
         };
         if cut {
             self.key_pool.extend(key);
@@ -802,11 +855,12 @@ impl<'a> Search<'a> {
         if let Some(k) = &key {
             if whole && self.split.is_none() && self.probe_refutes(k, t, min_idx, placed_area, rem_area, waste) {
                 // Refuted without the left-out items: a record for the probes' list.
-                self.record_dead(k, waste, ub, true, true);
+                self.record_dead(k, waste, ub, true, false, true);
                 self.key_pool.extend(key);
                 return false;
             }
         }
+        let rows_before = self.rpruned;
         let found = self.xbranch(t, min_idx, placed_area, rem_area, waste);
         if let Some(k) = key {
             // On the way to a probe's complete x-assignment: its probe would find it again.
@@ -814,7 +868,8 @@ impl<'a> Search<'a> {
                 self.record_alive(&k);
             }
             if whole && !found && !self.stopped && self.yleaves == leaves_before {
-                self.record_dead(&k, waste, ub, self.cpruned == cut_before, self.probing);
+                let rows = self.rpruned != rows_before;
+                self.record_dead(&k, waste, ub, self.cpruned == cut_before, rows, self.probing);
             }
             self.key_pool.push(k);
         }
@@ -835,7 +890,7 @@ impl<'a> Search<'a> {
     /// Record the state `key` as dead: at any bound (`any`: no contact cut below it), as a
     /// profile in the probes' list (`probed`: refuted without the left-out items) or the
     /// search's, or at its contact bound `ub`.
-    fn record_dead(&mut self, key: &[(i32, i32)], waste: f64, ub: f64, any: bool, probed: bool) {
+    fn record_dead(&mut self, key: &[(i32, i32)], waste: f64, ub: f64, any: bool, rows: bool, probed: bool) {
         let tol = self.t * (self.w + self.d);
         if any {
             // No complete x-assignment extends it, whatever the contact bound.
@@ -843,8 +898,11 @@ impl<'a> Search<'a> {
             let at = self.keep_profile(profile, key[1].0);
             // A probe's dead state goes to the probes' list, which the search consults too; the
             // search's own dead states only to its own list (they may need the left-out items).
+            // Dead given the rows check: a list of its own (the probes never check rows).
             let (m, set) = if probed {
                 (1, self.probe_set())
+            } else if rows {
+                (3, self.placed_mask)
             } else {
                 (0, self.placed_mask)
             };
@@ -858,7 +916,8 @@ impl<'a> Search<'a> {
                 let sig = signed.then(|| sig_in_arena(arena, at));
                 list.retain(|p| {
                     let passes = sig.is_none_or(|s| sig_in_arena(arena, *p).may_dominate(s));
-                    !(passes && dominated(in_arena(arena, *p), profile))
+                    let old = in_arena(arena, *p);
+                    !(passes && dominated(old, profile) && (m != 3 || ends_within(old, profile)))
                 });
             }
             self.dominant_len = self.dominant_len + 1 + list.len() - before;

@@ -237,4 +237,36 @@ impl Search<'_> {
     pub(super) fn node_contact_bound(&self, t: f64, used: f64) -> f64 {
         self.contact_ub() - self.rows_lost_ahead(t, used) - self.sides_unreachable(self.w * self.d - used)
     }
+
+    /// Rows ahead of `t`: each row holds at most one open object (all cover `t`), so the
+    /// `h` rows of an open object ending at `e` leave `w − e` to the unplaced items' widths,
+    /// and the rows of no open object leave `w − t`; a row filled by widths summing to at most
+    /// the largest subset sum within its room loses the rest. `used`: area placed, still to
+    /// place (least) and wasted. Refutes when the rows must lose more than the free area left.
+    pub(super) fn rows_refute(&self, t: f64, used: f64) -> bool {
+        let Some(g) = &self.wgrid else {
+            return false;
+        };
+        let mut bits = 1u64;
+        for i in 0..self.items.len() {
+            if !self.placed[i] {
+                bits = g.add_word(bits, i);
+            }
+        }
+        let gap = |r: f64| {
+            if r <= self.t {
+                0.0
+            } else {
+                r - g.length(subset::most_in_word(bits, g.steps_in(r)))
+            }
+        };
+        let (mut forced, mut load) = (0.0, 0.0);
+        for &(e, h) in &self.xends[self.open_from(t)..] {
+            forced += h * gap(self.w - e);
+            load += h;
+        }
+        forced += (self.d - load).max(0.0) * gap(self.w - t);
+        let tol = self.t * (self.w + self.d);
+        forced > self.w * self.d - used + tol
+    }
 }
