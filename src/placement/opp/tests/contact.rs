@@ -445,10 +445,11 @@ fn the_sides_bound_keeps_every_packing_above_the_bound() {
 
 /// The rows check (each row ahead of `t` holds at most one open object and a subset of the
 /// unplaced widths within its room) and the dead states recorded given it, which cut only
-/// states whose open objects end where theirs do, cut only branches that hold no packing above the bound: the same
-/// comparison as [`the_stacks_bound_below_the_root_keeps_every_packing_above_the_bound`], with
-/// and without it, on 300 instances of 6 to 9 items under bounds 0.5 or 1.5 below the best, and
-/// 100 more 2.5 or 3.5 below it; and those records cut in some of them.
+/// states whose open objects end where theirs do, cut only branches that hold no packing above
+/// the bound: the same comparison as
+/// [`the_stacks_bound_below_the_root_keeps_every_packing_above_the_bound`], with and without
+/// it, on 300 instances of 6 to 9 items under bounds 0.5 or 1.5 below the best, and 100 more
+/// 2.5 or 3.5 below it; and those records cut in some of them.
 #[test]
 fn the_rows_check_keeps_every_packing_above_the_bound() {
     let mut rng = Lcg(73);
