@@ -734,7 +734,7 @@ impl<'a> Search<'a> {
         // The rows ahead (`rows_refute`): a cut the bar relaxation does not make, so a subtree it
         // cut is dead only given it (`dominant[3]`); last, after every cut that holds under the
         // relaxation. Only under a contact bound: in the area stage the records it costs the
-        // bar's dominance cost more than it cuts (n20_k4_s0014 0.94 M → 3.9 M nodes).
+        // bar's dominance cost more than it cuts (n20_k4_s0014's area stage 0.21 → 2.09 s).
         let used = placed_area + rem_area + waste;
         let rows_cut = |s: &mut Self| {
             let cut = s.rows_on && s.cbound.is_some() && !s.probing && s.rows_refute(t, used);
