@@ -52,6 +52,7 @@ fn run(which: &str, inst: &Instance, placement: &Placement, limit: f64) -> pushp
         no_direct: false,
         no_multi_push: false,
         max_nodes: u64::MAX,
+        vetoes: Vec::new(),
     };
     let stop = TimeLimit::new(limit);
     match which {

@@ -44,6 +44,7 @@ fn stages(c: &mut Criterion) {
             no_direct: false,
             no_multi_push: false,
             max_nodes: 5_000_000,
+            vetoes: Vec::new(),
         };
         g.bench_function(format!("sequence_paper/{name}"), |b| {
             b.iter(|| paper::solve(black_box(&inst), &placement, &opts, &TimeLimit::new(60.0)).expect("paper"))

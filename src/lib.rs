@@ -49,7 +49,6 @@ pub mod render;
 pub mod report;
 pub mod robot;
 pub mod sequence;
-#[cfg(feature = "sim")]
 pub mod simulate;
 pub mod status;
 pub mod verify;

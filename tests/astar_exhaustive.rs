@@ -476,6 +476,7 @@ fn check_seeds(sizes: impl Fn(usize) -> bool) -> Option<usize> {
             no_direct: nd,
             no_multi_push: nm,
             max_nodes: 5_000_000,
+            vetoes: Vec::new(),
         };
         // Offsets beyond the line rank: up to 2d on the smaller instances; on six and seven
         // objects only the ranks' offsets (each extra step multiplies the enumerated states).

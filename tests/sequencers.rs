@@ -94,6 +94,7 @@ fn bl_setup(
         no_direct: false,
         no_multi_push: false,
         max_nodes: u64::MAX,
+        vetoes: Vec::new(),
     };
     (inst, placement, opts)
 }
@@ -236,6 +237,7 @@ fn a_placement_proven_to_have_no_plan_falls_back_to_the_next_bl_placement() {
         no_direct: false,
         no_multi_push: false,
         max_nodes: o.max_nodes,
+        vetoes: Vec::new(),
     };
     for p in std::iter::once(&first).chain(&alts[..k - 1]) {
         match astar::solve(&inst, p, &opts, &AstarSettings::default(), &TimeLimit::new(30.0)) {

@@ -20,6 +20,7 @@ fn single_push(offset: f64) -> (f64, f64) {
         size: [0.06, 0.06, 0.03],
         mass: 0.05,
         mu: [0.4, 0.4, 0.5],
+        yaw: 0.0,
     };
     let x0 = 0.1 + 0.03 + 0.005 + 0.0005;
     let p = Pusher {
@@ -70,6 +71,7 @@ fn a_tall_box_tips_above_the_closed_form_height_and_slides_below_it() {
             size: [0.02, 0.06, 0.10],
             mass: 0.05,
             mu: [0.8, 0.4, 0.3],
+            yaw: 0.0,
         };
         let x0 = 0.1 + 0.01 + 0.005 + 0.0005;
         let p = Pusher {
@@ -101,6 +103,7 @@ fn two_offset_boxes_slip_apart_below_the_friction_threshold_and_stay_together_ab
             size: [d, 0.06, 0.03],
             mass: 0.05,
             mu: [0.4, mu, 1.0],
+            yaw: 0.0,
         };
         let s = [0.1 + d + d / 2.0 + 0.0055, e * 1.5];
         let p = Pusher {

@@ -6,6 +6,7 @@
 //! slabs (3-D, parry3d), swept space, the container, and push stability ([`push`]).
 
 pub mod push;
+pub mod veto;
 
 use crate::geometry::Arm;
 use crate::geometry::{Axis2, Box3, PushDir, Rect, EPS};
@@ -96,8 +97,8 @@ pub enum ObjState {
 /// Why an action cannot run now.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Infeasible {
-    /// Violated condition class (`overlap`, `wall`, `finger_slab`, `swept_space`, `push_stability`,
-    /// `precedence`, `gripper_opening`).
+    /// Violated condition class (`overlap`, `wall`, `finger_slab`, `swept_space`, `side_contact`,
+    /// `push_stability`, `precedence`, `gripper_opening`).
     pub class: String,
     /// Human-readable detail.
     pub detail: String,
@@ -117,6 +118,12 @@ pub struct Layout<'a> {
     placement: &'a Placement,
     /// State of each object.
     pub state: Vec<ObjState>,
+    /// Count every box at its target as held against a push ([`push::side::side_failure`]'s
+    /// `assume_held`): set by the sequencers' bounds, which must stay monotone.
+    pub assume_held: bool,
+    /// Actions a physics replay rejected in a neighbourhood ([`veto`]); ignored while
+    /// `assume_held` is set, so that bounds stay relaxations.
+    pub vetoes: Option<std::sync::Arc<[veto::Veto]>>,
 }
 
 /// Height of the space above the container that fingers and pushers sweep through (m); any
@@ -214,6 +221,8 @@ impl<'a> Layout<'a> {
             inst,
             placement,
             state: vec![ObjState::Table; inst.n()],
+            assume_held: false,
+            vetoes: None,
         }
     }
 
@@ -280,6 +289,11 @@ impl<'a> Layout<'a> {
 
     /// Whether `action` can run in the current state; the push-stability margin when it is a push.
     pub fn check(&self, action: &Action) -> Result<Option<f64>, Infeasible> {
+        if let Some(v) = self.vetoes.as_ref().filter(|_| !self.assume_held) {
+            if let Some(v) = v.iter().find(|v| v.rejects(self, action)) {
+                return Err(infeasible("physics", v.reason.clone()));
+            }
+        }
         match action {
             Action::Place {
                 object,
@@ -296,6 +310,7 @@ impl<'a> Layout<'a> {
             } => {
                 self.check_line(objects, *push_dir, *distance)?;
                 self.check_push_space(objects, *push_dir, *pusher_at)?;
+                self.check_side_contacts(objects, *push_dir)?;
                 self.check_push_stability(objects, *push_dir, *pusher_at).map(Some)
             }
         }
@@ -469,6 +484,57 @@ impl<'a> Layout<'a> {
             ));
         }
         Ok(())
+    }
+
+    /// No pushed box slides along a neighbour that nothing holds against the push, nor between
+    /// faces on both of its sides ([`push::side`]), unless the instance turns side contacts off.
+    fn check_side_contacts(&self, objects: &[usize], push_dir: PushDir) -> Result<(), Infeasible> {
+        let inst = self.inst;
+        if !inst.settings.side_contacts {
+            return Ok(());
+        }
+        let moving: Vec<(usize, Rect)> = objects
+            .iter()
+            .map(|&i| {
+                let from = self.rect_of(i).expect("released");
+                (i, from.union(&self.placement.targets[i].rect))
+            })
+            .collect();
+        let standing: Vec<push::side::Standing> = (0..inst.n())
+            .filter(|i| !objects.contains(i))
+            .filter_map(|i| {
+                self.rect_of(i).map(|rect| push::side::Standing {
+                    object: i,
+                    rect,
+                    at_target: self.state[i] == ObjState::Done,
+                })
+            })
+            .collect();
+        let floor = inst.container.floor();
+        match push::side::side_failure(
+            &floor,
+            &moving,
+            &standing,
+            push_dir,
+            &push::side::SideRule {
+                clearance: inst.settings.side_clearance,
+                assume_held: self.assume_held,
+                forbid_slots: inst.settings.forbid_slots,
+            },
+        ) {
+            None => Ok(()),
+            Some(push::side::SideFailure::Drags { moving, neighbour }) => Err(infeasible(
+                "side_contact",
+                format!(
+                    "{} slides along {}, which nothing holds against the push",
+                    inst.objects[moving].id, inst.objects[neighbour].id
+                ),
+            )),
+            Some(push::side::SideFailure::Wedged { moving }) => Err(infeasible(
+                "side_contact",
+                format!("{} slides between faces on both of its sides", inst.objects[moving].id),
+            )),
+        }
     }
 
     /// The push model accepts the push (docs/push_stability.md); its margin.

@@ -6,7 +6,6 @@ use super::spec::PlannerSpec;
 use crate::control::{Never, Silent};
 use crate::instance::Instance;
 use crate::plan::optimize_stages;
-use crate::verify::verify;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::time::Instant;
@@ -118,7 +117,8 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
         let out = out.map_err(|e| (e, placed.map(Box::new)))?;
         let plan_time = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let report = verify(inst, &out.plan);
+        let report =
+            crate::verify::verify_with(inst, &out.plan, &crate::verify::VerifyOptions { physics: opts.physics });
         Ok::<_, (crate::error::Error, Option<Box<crate::placement::PlacementResult>>)>((
             out,
             plan_time,
@@ -187,7 +187,20 @@ pub fn run_in_process(path: &str, inst: &Instance, spec: &PlannerSpec, time_limi
             row.violations = Some(report.violations.len());
             row.robot_issues = Some(report.robot_issues.len());
             row.robot_time_s = plan.trajectories.iter().map(|t| t.t_end).reduce(f64::max);
-            if spec.simulate {
+            // The verifier's replay, when it ran, is the one the `sim_*` columns show; a
+            // packing-only plan is replayed only when the spec asks (`+simulate`).
+            if let crate::verify::PhysicsCheck::Replayed {
+                ok,
+                worst_mm,
+                worst_deg,
+                wall_s,
+            } = report.physics
+            {
+                row.sim_ok = Some(ok);
+                row.sim_position_error_mm = Some(worst_mm);
+                row.sim_rotation_deg = Some(worst_deg);
+                row.sim_time_s = Some(wall_s);
+            } else if spec.simulate {
                 simulate_row(&mut row, inst, plan);
             }
         }

@@ -7,7 +7,7 @@ use std::fmt;
 /// One planner configuration of a benchmark: placement solver, sequencer and ablations.
 ///
 /// Grammar: `PLACEMENT+SEQUENCER[+OPTION]...` with PLACEMENT `bl|milp`, SEQUENCER
-/// `paper|astar`, OPTION an ablation `no-direct|no-multi-push`, `altN` (N ≥ 1: up to N
+/// `paper|astar`, OPTION an ablation `no-direct|no-multi-push`, `no-physics`, `altN` (N ≥ 1: up to N
 /// alternative Bottom-Left placements when one is proven to have no plan,
 /// [`PlanOptions::placement_alternatives`]) or `threadsN` (N ≥ 1 threads for the exact
 /// placement's box searches and the inverse kinematics, [`PlanOptions::threads`]; the plan is
@@ -33,6 +33,9 @@ pub struct PlannerSpec {
     /// Replay each plan in the physics engine (`simulate`) and fill the `sim_*` columns. Not an
     /// ablation: the plan is the same with or without it.
     pub simulate: bool,
+    /// No physics replay (`no-physics`): neither in the search nor in the verifier, so no plan
+    /// counts as executable ([`PlanOptions::physics`]). For measuring what the replay costs.
+    pub no_physics: bool,
     /// Threads of one run (`threadsN`; 1 when absent, and `threads1` is the same planner). Not
     /// an ablation either: the same plan on any number. With `--jobs J`, J × N threads run at
     /// once.
@@ -75,6 +78,7 @@ impl PlannerSpec {
             placement_alternatives: 0,
             packing_only: false,
             simulate: false,
+            no_physics: false,
             threads: 1,
         };
         // The numbered options, `altN` and `threadsN`: each N >= 1, each at most once.
@@ -102,9 +106,10 @@ impl PlannerSpec {
                 "no-direct" => &mut spec.no_direct,
                 "no-multi-push" => &mut spec.no_multi_push,
                 "simulate" => &mut spec.simulate,
+                "no-physics" => &mut spec.no_physics,
                 other => {
                     return Err(bad(format!(
-                        "planner {text:?}: option must be packing-only, no-direct, no-multi-push, simulate, altN or threadsN, got {other:?}"
+                        "planner {text:?}: option must be packing-only, no-direct, no-multi-push, simulate, no-physics, altN or threadsN, got {other:?}"
                     )))
                 }
             };
@@ -153,6 +158,7 @@ impl PlannerSpec {
         o.placement_alternatives = self.placement_alternatives;
         o.packing_only = self.packing_only;
         o.threads = self.threads;
+        o.physics = !self.no_physics;
         o.time_limit = time_limit;
         o
     }
@@ -183,6 +189,9 @@ impl fmt::Display for PlannerSpec {
         }
         if self.simulate {
             write!(f, "+simulate")?;
+        }
+        if self.no_physics {
+            write!(f, "+no-physics")?;
         }
         if self.threads > 1 {
             write!(f, "+threads{}", self.threads)?;

@@ -10,12 +10,19 @@ pub(super) fn cmd_verify(cmd: Cmd) -> Result<i32, Error> {
         json,
         packing_only,
         simulate,
+        no_physics,
     } = cmd
     else {
         unreachable!("run dispatches only Cmd::Verify here")
     };
     let (p, inst) = load_plan_instance(&plan, Some(&instance))?;
-    let mut report = verify(&inst, &p);
+    let mut report = pushpack::verify::verify_with(
+        &inst,
+        &p,
+        &pushpack::verify::VerifyOptions {
+            physics: !no_physics && !packing_only,
+        },
+    );
     report.packing_only |= packing_only;
     let sim = if simulate {
         Some(pushpack::simulate::simulate(
@@ -60,10 +67,24 @@ pub(super) fn cmd_simulate(cmd: Cmd) -> Result<i32, Error> {
         push_speed,
         contact_hz,
         sweep,
+        robust,
+        seed,
+        min_share,
     } = cmd
     else {
         unreachable!("run dispatches only Cmd::Simulate here")
     };
+    if robust == Some(0) {
+        return Err(Error::input("<command line>", "--robust", "must be >= 1"));
+    }
+    let min_share = min_share.unwrap_or(1.0);
+    if !(0.0..=1.0).contains(&min_share) {
+        return Err(Error::input(
+            "<command line>",
+            "--min-share",
+            format!("must be within 0..=1, got {min_share}"),
+        ));
+    }
     let flags = [("--dt", dt), ("--push-speed", push_speed), ("--contact-hz", contact_hz)];
     for (flag, v) in flags {
         if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
@@ -82,6 +103,17 @@ pub(super) fn cmd_simulate(cmd: Cmd) -> Result<i32, Error> {
         contact_hz: contact_hz.unwrap_or(d.contact_hz),
         ..d
     };
+    if let Some(n) = robust {
+        let runs = pushpack::simulate::robust::robust(&inst, &p, &opts, n, seed.unwrap_or(0))?;
+        let share = pushpack::simulate::robust::share_ok(&runs);
+        if json {
+            let v = serde_json::json!({ "share_within_tolerance": share, "runs": runs });
+            println!("{}", serde_json::to_string_pretty(&v).expect("serialisable"));
+        } else {
+            print!("{}", pushpack::simulate::robust::robust_table(&runs));
+        }
+        return Ok(if share + 1e-12 >= min_share { EXIT_OK } else { EXIT_FAIL });
+    }
     if sweep {
         let runs = pushpack::simulate::sweep::sweep(&inst, &p, &opts)?;
         if json {

@@ -7,7 +7,6 @@ use pushpack::instance::{Instance, MAX_OFFSET_STEPS, MAX_TIME_LIMIT};
 use pushpack::plan::{optimize_stages, PlacementSolver, Plan, PlanOptions, Sequencer};
 use pushpack::render::{render, render_placement};
 use pushpack::simulate::SimOptions;
-use pushpack::verify::verify;
 use std::path::{Path, PathBuf};
 
 mod commands;
@@ -108,10 +107,14 @@ enum Cmd {
         /// a plan made with `plan --packing-only`).
         #[arg(long)]
         packing_only: bool,
-        /// Also replay the plan in the physics engine (as `pushpack simulate`); the plan is
-        /// valid only if every box stays within the push tolerances too.
+        /// Also print the physics replay's full report (as `pushpack simulate`). The verifier
+        /// replays every otherwise valid plan anyway: a plan is executable only if every box
+        /// stays within the push tolerances.
         #[arg(long)]
         simulate: bool,
+        /// Skip the physics replay: the plan can then be valid but is never called executable.
+        #[arg(long, conflicts_with = "simulate")]
+        no_physics: bool,
     },
     /// Replay a plan in the rapier3d physics engine: every place and push executed by rigid
     /// fingers along the planned path; per action and box, rotation, drift and final error
@@ -137,8 +140,19 @@ enum Cmd {
         /// Replay under six settings around these (half the step, a half and a quarter of the
         /// push speed, softer and stiffer contacts) and print one line each: a verdict that changes
         /// marks a fragile plan. Exits 1 unless every replay is within tolerance.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "robust")]
         sweep: bool,
+        /// Replay N times under the errors a real cell makes: every release off by up to 0.5 mm
+        /// and 0.5°, friction off by up to 20 %, and the sweep's six settings in turn; print the
+        /// share within tolerance. Exits 1 when the share is below --min-share.
+        #[arg(long, value_name = "N")]
+        robust: Option<usize>,
+        /// Seed of the first perturbed replay (replay k uses seed + k; default 0).
+        #[arg(long, requires = "robust")]
+        seed: Option<u64>,
+        /// Share of the perturbed replays that must stay within tolerance (default 1).
+        #[arg(long, requires = "robust")]
+        min_share: Option<f64>,
     },
     /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, or CSV).
     Export {
@@ -301,6 +315,10 @@ struct PlanArgs {
     /// stderr at the end.
     #[arg(long)]
     astar_profile: bool,
+    /// Do not replay plans in the physics engine: neither inside the search (vetoing the pushes
+    /// the replay rejects) nor in the verifier. The plan is then never called executable.
+    #[arg(long)]
+    no_physics: bool,
 }
 
 impl PlanArgs {
@@ -332,6 +350,7 @@ impl PlanArgs {
         }
         o.placement_alternatives = self.placement_alternatives;
         o.packing_only |= self.packing_only;
+        o.physics &= !self.no_physics;
         if let Some(m) = self.max_offset_steps {
             if m == 0 || m > MAX_OFFSET_STEPS {
                 return Err(Error::input(
@@ -591,12 +610,30 @@ fn cmd_plan(
     let path = out.join("plan.json");
     outcome.plan.save(&path)?;
     print_summary(&inst, &outcome);
-    let report = verify(&inst, &outcome.plan);
+    let report = pushpack::verify::verify_with(
+        &inst,
+        &outcome.plan,
+        &pushpack::verify::VerifyOptions { physics: o.physics },
+    );
     if let Some(t) = outcome.plan.robot_time_s() {
         println!("robot time {t:.1} s (both arms in turn, joint trajectories included)");
     }
+    let vetoes = &outcome.plan.solver.sequence.physics_vetoes;
+    if !vetoes.is_empty() {
+        println!(
+            "physics    {} action(s) the replay rejected were avoided in their neighbourhood:",
+            vetoes.len()
+        );
+        for v in vetoes {
+            println!("  {v}");
+        }
+    }
     if report.is_executable() {
-        println!("verify     valid (packing and joint trajectories): the robot can run it");
+        println!("verify     valid (packing, joint trajectories, physics replay): the robot can run it");
+    } else if report.is_robot_valid() && report.physics_issues.is_empty() {
+        println!(
+            "verify     valid for the robot; the physics replay was not run (--no-physics), so not called executable"
+        );
     } else if report.is_valid() {
         println!(
             "verify     valid as a packing-only plan, not executable ({} robot issue(s))",
@@ -607,6 +644,12 @@ fn cmd_plan(
         }
     } else {
         println!("verify     {report}");
+        if !report.physics_issues.is_empty() {
+            println!(
+                "hint       the physics replay moves a box out of tolerance: `pushpack simulate {}` shows every action",
+                path.display()
+            );
+        }
         if !report.robot_issues.is_empty() && report.is_packing_valid() {
             println!("hint       the packing is valid; --packing-only accepts a plan the robot cannot run");
         }

@@ -171,6 +171,16 @@ pub struct PlannerFile {
     /// Largest lateral drift (length) of a box over such a phase; default 0.001 m.
     #[serde(default)]
     pub max_push_drift: Option<f64>,
+    /// Lateral gap (length) below which a pushed box slides along a face it passes; default
+    /// 0.001 m.
+    #[serde(default)]
+    pub side_clearance: Option<f64>,
+    /// Judge side contacts in pushes; default true.
+    #[serde(default)]
+    pub side_contacts: Option<bool>,
+    /// Also reject pushes into slots (side contacts on both sides); default false.
+    #[serde(default)]
+    pub forbid_slots: Option<bool>,
     /// Forbid direct placing (ablation).
     #[serde(default)]
     pub no_direct: Option<bool>,

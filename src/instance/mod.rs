@@ -276,6 +276,15 @@ pub struct Settings {
     /// Largest lateral drift (m) of a box over such a phase (default 1 mm,
     /// [`DEFAULT_MAX_PUSH_DRIFT`]).
     pub max_push_drift: f64,
+    /// Lateral gap (m) below which a pushed box slides along a parallel face it passes: a *side
+    /// contact* (default 1 mm, [`DEFAULT_SIDE_CLEARANCE`]; `docs/push_stability.md` §12).
+    pub side_clearance: f64,
+    /// Judge side contacts (default true): a push whose box slides along a neighbour that nothing
+    /// holds against the push, or between faces on both of its sides, is rejected.
+    pub side_contacts: bool,
+    /// Also reject a pushed box with side contacts on both sides, a slot (default false:
+    /// measured, it costs plans and buys no replay that passes; `docs/push_stability.md` §12).
+    pub forbid_slots: bool,
     /// Forbid direct placing.
     pub no_direct: bool,
     /// Forbid multi-object pushes.
@@ -303,6 +312,9 @@ impl Default for Settings {
             min_push_margin: 0.002,
             max_push_rotation: DEFAULT_MAX_PUSH_ROTATION,
             max_push_drift: DEFAULT_MAX_PUSH_DRIFT,
+            side_clearance: DEFAULT_SIDE_CLEARANCE,
+            side_contacts: true,
+            forbid_slots: false,
             no_direct: false,
             no_multi_push: false,
             packing_only: false,
@@ -318,6 +330,14 @@ impl Default for Settings {
 /// tolerances are a few tenths of a millimetre over a box's half width, which a degree already
 /// uses (docs/push_stability.md §5.4).
 pub const DEFAULT_MAX_PUSH_ROTATION: f64 = std::f64::consts::PI / 180.0;
+
+/// Default of `planner.side_clearance`: 1 mm, twice the half-millimetre release error a real
+/// cell sees; a box turned 0.5° comes 0.26 mm closer over a 6 cm face on top of it.
+pub const DEFAULT_SIDE_CLEARANCE: f64 = 1e-3;
+
+/// Largest accepted `planner.side_clearance` (m): a gap the size of a finger's thickness is no
+/// longer a clearance but room, which the slab checks already judge.
+pub const MAX_SIDE_CLEARANCE: f64 = 0.01;
 
 /// Default of `planner.max_push_drift`: 1 mm.
 pub const DEFAULT_MAX_PUSH_DRIFT: f64 = 1e-3;

@@ -482,6 +482,21 @@ fn planner_settings(c: &Check, p: &super::file::PlannerFile, scale: f64) -> Resu
             )?,
             None => d.max_push_drift,
         },
+        side_clearance: match p.side_clearance {
+            Some(v) => {
+                let m = l(c.non_negative("planner.side_clearance", v)?);
+                if m > MAX_SIDE_CLEARANCE {
+                    return Err(c.err(
+                        "planner.side_clearance",
+                        format!("must be at most {} m, got {} m", num(MAX_SIDE_CLEARANCE), num(m)),
+                    ));
+                }
+                m
+            }
+            None => d.side_clearance,
+        },
+        side_contacts: p.side_contacts.unwrap_or(d.side_contacts),
+        forbid_slots: p.forbid_slots.unwrap_or(d.forbid_slots),
         no_direct: p.no_direct.unwrap_or(false),
         no_multi_push: p.no_multi_push.unwrap_or(false),
         packing_only: p.packing_only.unwrap_or(false),

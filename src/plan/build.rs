@@ -81,6 +81,7 @@ pub fn build_plan_with(
                 gap: Some(pr.gap()),
                 assignments: None,
                 cost_bound: None,
+                physics_vetoes: Vec::new(),
             },
             sequence: StageStats {
                 status: sequence_status,
@@ -100,6 +101,7 @@ pub fn build_plan_with(
                 }),
                 assignments: Some(sr.assignments),
                 cost_bound: sr.bound,
+                physics_vetoes: Vec::new(),
             },
         },
         robot: Some(robot),

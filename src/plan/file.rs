@@ -174,6 +174,10 @@ pub struct StageStats {
     /// Proven lexicographic lower bound (actions, swept area, travel) of the sequence stage.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cost_bound: Option<sequence::astar::Cost>,
+    /// Sequence stage: the actions the physics replay rejected, each in its neighbourhood, that
+    /// the search then avoided (`docs/push_stability.md` §13); absent when none was.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub physics_vetoes: Vec<String>,
 }
 
 /// Per-stage statistics.
@@ -436,4 +440,13 @@ fn upgrade_v1(doc: &mut serde_json::Value) {
         }
     }
     doc["status"] = Value::from(Status::combine(&stages).as_str());
+}
+
+impl crate::simulate::Replayable for Plan {
+    fn replay_placement(&self, inst: &Instance) -> Result<Placement> {
+        self.placement(inst)
+    }
+    fn replay_actions(&self, inst: &Instance) -> Result<Vec<Action>> {
+        self.actions(inst)
+    }
 }

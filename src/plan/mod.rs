@@ -4,12 +4,14 @@
 //! outside tools can read it without the instance. [`Plan::actions`] converts it back into
 //! [`crate::actions::Action`]s against an instance, rejecting unknown ids and malformed entries.
 
+use crate::actions::veto::Veto;
 use crate::control::{Either, Event, Listener, Never, Silent, Stage, Terminator, TimeLimit};
 use crate::error::{Error, Result};
 use crate::instance::Instance;
 use crate::motion::TrajectoryOptions;
 use crate::placement::{self, Placement, PlacementResult, PlacementStatus};
 use crate::sequence::{self, SearchStatus, SequenceOptions, SequenceResult};
+use crate::simulate;
 use crate::status::{Limit, Status};
 use serde::{Deserialize, Serialize};
 
@@ -166,6 +168,16 @@ pub struct PlanOptions {
     /// the wall time changes (absent in older plan files: 1).
     #[serde(default = "one_thread")]
     pub threads: usize,
+    /// Replay each plan the sequencer finds in the physics engine, and search again without
+    /// the first action the replay rejects, in its neighbourhood (default true;
+    /// `plan --no-physics` turns it off, and the verifier's replay with it). Packing-only runs
+    /// replay inside the search too; their verifier does not (they are never executable).
+    #[serde(default = "yes")]
+    pub physics: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn one_thread() -> usize {
@@ -191,6 +203,7 @@ impl PlanOptions {
             bl_orders: s.bl_orders,
             placement_alternatives: 0,
             packing_only: s.packing_only,
+            physics: true,
             astar: {
                 let d = sequence::astar::AstarSettings::default();
                 sequence::astar::AstarSettings {
@@ -345,9 +358,14 @@ pub fn sequence_placement_with(
     });
     let clock = TimeLimit::new(time_limit);
     let limit = Either(&clock, stop);
-    let first = sequence_one(inst, opts, &placement.placement, &limit, listener);
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs_f64(time_limit.max(0.0));
+    let first = sequence_physical(inst, opts, &placement.placement, &limit, deadline, listener);
     let reason = match first {
-        Ok(sequence) => return Ok(outcome(inst, opts, placement, sequence, 0, stop, listener)),
+        Ok((sequence, vetoes)) => {
+            let mut out = outcome(inst, opts, placement, sequence, 0, stop, listener);
+            out.plan.solver.sequence.physics_vetoes = vetoes;
+            return Ok(out);
+        }
         Err(Error::Infeasible { reason }) if opts.placement_alternatives > 0 => reason,
         Err(e) => return Err(cancelled(e, stop)),
     };
@@ -365,8 +383,8 @@ pub fn sequence_placement_with(
             break;
         }
         tried += 1;
-        match sequence_one(inst, opts, &alt, &limit, listener) {
-            Ok(sequence) => {
+        match sequence_physical(inst, opts, &alt, &limit, deadline, listener) {
+            Ok((sequence, vetoes)) => {
                 let pr = PlacementResult {
                     placement: alt,
                     status: PlacementStatus::Feasible,
@@ -383,7 +401,9 @@ pub fn sequence_placement_with(
                     nodes: placement.nodes,
                     subproblems: placement.subproblems,
                 };
-                return Ok(outcome(inst, opts, pr, sequence, tried, stop, listener));
+                let mut out = outcome(inst, opts, pr, sequence, tried, stop, listener);
+                out.plan.solver.sequence.physics_vetoes = vetoes;
+                return Ok(out);
             }
             Err(Error::Infeasible { .. }) => continue,
             Err(e) => return Err(cancelled(e, stop)),
@@ -416,6 +436,142 @@ fn cancelled(e: Error, stop: &dyn Terminator) -> Error {
     }
 }
 
+/// The chosen sequencer on `placement`, with the physics replay in the loop: each plan found is
+/// replayed (up to its first action out of tolerance); that action is vetoed in its
+/// neighbourhood and the search runs again, until a plan passes, the search finds none, or the
+/// limit strikes. The last plan found is returned either way, with the vetoes' reasons: a plan
+/// that still fails is the verifier's to reject, not this loop's to hide.
+///
+/// With the replay on, each search gets [`PHYSICS_SHARE`] of the time left, so that a plan the
+/// replay rejects leaves time to search again; a first search that finds nothing in its share
+/// runs again with all of it.
+fn sequence_physical(
+    inst: &Instance,
+    opts: &PlanOptions,
+    placement: &Placement,
+    limit: &dyn Terminator,
+    deadline: std::time::Instant,
+    listener: &mut dyn Listener,
+) -> Result<(SequenceResult, Vec<String>)> {
+    let mut vetoes: Vec<Veto> = Vec::new();
+    let mut last: Option<SequenceResult> = None;
+    // Packing-only studies replay too: the boxes' mechanics do not depend on the robot.
+    let replay = opts.physics;
+    let started = std::time::Instant::now();
+    // The stage's time and nodes are those of every search and replay it ran.
+    let mut nodes = 0;
+    let total = |mut s: SequenceResult, nodes: u64| {
+        s.time_s = started.elapsed().as_secs_f64();
+        s.nodes = nodes;
+        s
+    };
+    loop {
+        let left = deadline
+            .saturating_duration_since(std::time::Instant::now())
+            .as_secs_f64();
+        let share = TimeLimit::new(if replay { left * PHYSICS_SHARE } else { left });
+        let attempt = sequence_one(inst, opts, placement, &Either(limit, &share), listener, &vetoes);
+        let attempt = match attempt {
+            Err(Error::Stopped { .. }) if last.is_none() && share.should_stop() && !limit.should_stop() => {
+                sequence_one(inst, opts, placement, limit, listener, &vetoes)
+            }
+            a => a,
+        };
+        let found = match attempt {
+            Ok(s) => s,
+            // With vetoes in force, a failed search still leaves the last plan in hand.
+            // It was found under every veto but the last, which it breaks.
+            Err(e) => match last {
+                Some(s) if !vetoes.is_empty() => return Ok((total(s, nodes), reasons(&vetoes[..vetoes.len() - 1]))),
+                _ => return Err(e),
+            },
+        };
+        nodes += found.nodes;
+        if !replay || limit.should_stop() || vetoes.len() >= MAX_PHYSICS_VETOES {
+            return Ok((total(found, nodes), reasons(&vetoes)));
+        }
+        match physics_veto(inst, placement, &found.actions, limit) {
+            Some(v) => {
+                // A veto the search already had would mean it ignored one: never loop on it.
+                debug_assert!(!vetoes.contains(&v), "the search chose a vetoed action: {}", v.reason);
+                if vetoes.contains(&v) {
+                    return Ok((total(found, nodes), reasons(&vetoes)));
+                }
+                vetoes.push(v)
+            }
+            None => return Ok((total(found, nodes), reasons(&vetoes))),
+        }
+        last = Some(found);
+    }
+}
+
+/// Share of the time left that one search of [`sequence_physical`] may use: the rest is kept
+/// for searching again around the actions the replay rejects.
+pub const PHYSICS_SHARE: f64 = 2.0 / 3.0;
+
+/// Most physics vetoes one placement's search takes before it gives up and returns its plan:
+/// each costs a search and a replay.
+pub const MAX_PHYSICS_VETOES: usize = 32;
+
+fn reasons(vetoes: &[Veto]) -> Vec<String> {
+    vetoes.iter().map(|v| v.reason.clone()).collect()
+}
+
+/// The first action of `actions` that the physics replay moves a box out of tolerance in, as a
+/// veto in the state it ran in; `None` when the replay passes (or cannot tell which action).
+///
+/// The replay runs with the instance's settings first, then under the sweep's other settings
+/// (`simulate::sweep::variants`: half the step, slower pushes, softer and stiffer contacts),
+/// each until its first failure: a push that passes one setting and fails the next is fragile,
+/// and a plan found again around it is one the sweep accepts. A plan that passes the first
+/// replay costs five more; one that fails it, one.
+fn physics_veto(
+    inst: &Instance,
+    placement: &Placement,
+    actions: &[crate::actions::Action],
+    limit: &dyn Terminator,
+) -> Option<Veto> {
+    let seq = simulate::Sequence { placement, actions };
+    // Cheapest replays first (steps per simulated second, times the slowing of the pushes), so
+    // that a fragile plan is usually caught before the slow settings run.
+    let base = simulate::SimOptions::from_instance(inst);
+    let mut settings = simulate::sweep::variants(&base);
+    let cost = |o: &simulate::SimOptions| base.dt / o.dt * base.push_speed / o.push_speed;
+    settings.sort_by(|a, b| cost(&a.1).total_cmp(&cost(&b.1)));
+    for (setting, o) in settings {
+        if limit.should_stop() {
+            return None;
+        }
+        let report = simulate::first_failure(inst, &seq, &o).ok()?;
+        let Some(failed) = report.actions.iter().find(|a| !a.ok) else {
+            continue;
+        };
+        let k = failed.step - 1;
+        let mut layout = crate::actions::Layout::new(inst, placement);
+        for a in &actions[..k] {
+            layout.apply(a);
+        }
+        let reason = format!(
+            "{} {} ({setting}): turned {:?}°, drifted {:?} mm, others moved {:.2} mm",
+            failed.kind,
+            failed.objects.join(","),
+            failed
+                .rotation_deg
+                .iter()
+                .map(|r| (r * 100.0).round() / 100.0)
+                .collect::<Vec<_>>(),
+            failed
+                .drift_mm
+                .iter()
+                .map(|r| (r * 100.0).round() / 100.0)
+                .collect::<Vec<_>>(),
+            failed.disturbed_mm
+        );
+        return Some(Veto::new(&layout, &actions[k], reason));
+    }
+    None
+}
+
 /// One run of the chosen sequencer on `placement`.
 fn sequence_one(
     inst: &Instance,
@@ -423,11 +579,13 @@ fn sequence_one(
     placement: &Placement,
     limit: &dyn Terminator,
     listener: &mut dyn Listener,
+    vetoes: &[Veto],
 ) -> Result<SequenceResult> {
     let seq_opts = SequenceOptions {
         no_direct: opts.no_direct,
         no_multi_push: opts.no_multi_push,
         max_nodes: opts.max_nodes,
+        vetoes: vetoes.to_vec(),
     };
     // The sequencers' reach checks build their own IK solvers: on the run's threads.
     crate::robot::ik::with_threads(opts.threads, || match opts.sequencer {

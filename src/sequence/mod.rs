@@ -49,7 +49,7 @@ impl SearchStatus {
 }
 
 /// Options shared by every sequencer.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SequenceOptions {
     /// Forbid direct placing (ablation).
     pub no_direct: bool,
@@ -57,6 +57,27 @@ pub struct SequenceOptions {
     pub no_multi_push: bool,
     /// Node limit.
     pub max_nodes: u64,
+    /// Actions a physics replay rejected, each in its neighbourhood (`actions::veto`): the
+    /// sequencers treat them as infeasible there. Empty by default.
+    pub vetoes: Vec<crate::actions::veto::Veto>,
+}
+
+impl Default for SequenceOptions {
+    fn default() -> Self {
+        SequenceOptions {
+            no_direct: false,
+            no_multi_push: false,
+            max_nodes: 2_000_000,
+            vetoes: Vec::new(),
+        }
+    }
+}
+
+impl SequenceOptions {
+    /// [`Self::vetoes`] in the form a [`Layout`] holds them (`None` when there are none).
+    pub fn layout_vetoes(&self) -> Option<std::sync::Arc<[crate::actions::veto::Veto]>> {
+        (!self.vetoes.is_empty()).then(|| self.vetoes.clone().into())
+    }
 }
 
 /// Plan metrics (SPEC §5).

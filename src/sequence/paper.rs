@@ -616,7 +616,8 @@ pub fn solve_with(
                     incumbent,
                 },
             };
-            let layout = Layout::new(inst, placement);
+            let mut layout = Layout::new(inst, placement);
+            layout.vetoes = opts.layout_vetoes();
             dfs.rec(&layout, 0, home, [NO_ACTION; 2], 0.0, &mut Vec::new(), &mut Vec::new());
             nodes += dfs.nodes;
             (ticker, incumbent) = (dfs.progress.ticker, dfs.progress.incumbent);

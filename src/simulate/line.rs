@@ -6,6 +6,7 @@ use nalgebra::{Isometry3, Vector3};
 
 use super::world::World;
 use super::SimOptions;
+use crate::geometry::Box3;
 
 /// An axis-aligned box resting on the floor.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -18,6 +19,8 @@ pub struct FloorBox {
     pub mass: f64,
     /// Coulomb coefficients `[floor, object, finger]`.
     pub mu: [f64; 3],
+    /// Turn about the vertical (rad) from the axes of C: a release error.
+    pub yaw: f64,
 }
 
 /// A finger plate moving in a straight line at the options' push speed.
@@ -45,10 +48,19 @@ pub struct Motion {
 /// Push `boxes` with `pusher` and report each box's motion. Boxes start at rest, exactly on
 /// the floor.
 pub fn push_line(boxes: &[FloorBox], pusher: &Pusher, opts: &SimOptions) -> Vec<Motion> {
-    let mut w = World::new(&[], boxes.iter().map(|b| b.mu).collect(), opts);
+    push_among(boxes, &[], pusher, opts)
+}
+
+/// [`push_line`] with fixed `walls` on the floor: a box can be held against one, or slide
+/// along it.
+pub fn push_among(boxes: &[FloorBox], walls: &[Box3], pusher: &Pusher, opts: &SimOptions) -> Vec<Motion> {
+    let mut w = World::new(walls, boxes.iter().map(|b| b.mu).collect(), opts);
     for (i, b) in boxes.iter().enumerate() {
         let half = Vector3::from(b.size) / 2.0;
         let k = w.add_object(i, half, b.mass, Vector3::new(b.centre[0], b.centre[1], half.z));
+        if b.yaw != 0.0 {
+            w.turn(k, b.yaw);
+        }
         w.release(k);
     }
     let z = pusher.tip_height + pusher.half[2];

@@ -19,12 +19,14 @@
 
 pub mod line;
 pub mod report;
+pub mod robust;
 pub mod sweep;
 mod world;
 
 use std::time::Instant;
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+use rand::{RngExt, SeedableRng};
 
 use crate::actions::Action;
 use crate::error::{Error, Result};
@@ -32,7 +34,6 @@ use crate::geometry::{Axis2, Rect};
 use crate::instance::Instance;
 use crate::motion::keypoints::action_keypoints;
 use crate::placement::Placement;
-use crate::plan::Plan;
 
 pub use report::{ActionSim, BoxSim, SimReport, Tolerances};
 use world::{Kinematic, World};
@@ -59,6 +60,36 @@ pub struct SimOptions {
     pub settle_s: f64,
     /// What a box may do: from the instance's push tolerances.
     pub tolerances: Tolerances,
+    /// Errors a real cell makes, drawn from a seed (default none: the nominal replay).
+    pub perturb: Option<Perturbation>,
+}
+
+/// Random errors of one replay ([`robust`]): every release off its planned pose by up to
+/// `release_offset` along each floor axis and `release_yaw` about the vertical, every friction
+/// coefficient scaled by up to `1 ± friction`. Uniform, drawn from `seed`: the same seed gives
+/// the same replay.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Perturbation {
+    /// Seed of the draws.
+    pub seed: u64,
+    /// Largest release error along x and along y (m). Default 0.5 mm.
+    pub release_offset: f64,
+    /// Largest release error about the vertical (rad). Default 0.5°.
+    pub release_yaw: f64,
+    /// Largest relative friction error. Default 0.2.
+    pub friction: f64,
+}
+
+impl Perturbation {
+    /// The default errors (0.5 mm, 0.5°, ±20 % friction) with `seed`.
+    pub fn with_seed(seed: u64) -> Perturbation {
+        Perturbation {
+            seed,
+            release_offset: 5e-4,
+            release_yaw: 0.5f64.to_radians(),
+            friction: 0.2,
+        }
+    }
 }
 
 impl SimOptions {
@@ -72,6 +103,7 @@ impl SimOptions {
             push_speed: 0.02,
             settle_s: 0.1,
             tolerances: Tolerances::from_instance(inst),
+            perturb: None,
         }
     }
 
@@ -100,10 +132,61 @@ impl SimOptions {
                 format!("must be finite and ≥ 0, got {}", self.settle_s),
             ));
         }
+        if let Some(p) = self.perturb {
+            let ranges = [
+                ("perturb.release_offset", p.release_offset),
+                ("perturb.release_yaw", p.release_yaw),
+                ("perturb.friction", p.friction),
+            ];
+            for (field, v) in ranges {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(Error::input(
+                        "<simulate options>",
+                        field,
+                        format!("must be finite and ≥ 0, got {v}"),
+                    ));
+                }
+            }
+            if p.friction >= 1.0 {
+                return Err(Error::input(
+                    "<simulate options>",
+                    "perturb.friction",
+                    format!("must be below 1 (a coefficient stays positive), got {}", p.friction),
+                ));
+            }
+        }
         if self.solver_iterations == 0 {
             return Err(Error::input("<simulate options>", "solver_iterations", "must be ≥ 1"));
         }
         Ok(())
+    }
+}
+
+/// What a replay needs: the targets and the actions, read against the instance. `plan.json`'s
+/// [`crate::plan::Plan`] is one (implemented where it is defined, above this stage); a
+/// [`Sequence`] is the planner's own, before any plan file exists.
+pub trait Replayable {
+    /// The targets.
+    fn replay_placement(&self, inst: &Instance) -> Result<Placement>;
+    /// The actions, in order.
+    fn replay_actions(&self, inst: &Instance) -> Result<Vec<Action>>;
+}
+
+/// A placement and an order of actions, as the sequencers produce them.
+#[derive(Debug, Clone, Copy)]
+pub struct Sequence<'a> {
+    /// The targets.
+    pub placement: &'a Placement,
+    /// The actions, in order.
+    pub actions: &'a [Action],
+}
+
+impl Replayable for Sequence<'_> {
+    fn replay_placement(&self, _inst: &Instance) -> Result<Placement> {
+        Ok(self.placement.clone())
+    }
+    fn replay_actions(&self, _inst: &Instance) -> Result<Vec<Action>> {
+        Ok(self.actions.to_vec())
     }
 }
 
@@ -112,10 +195,20 @@ impl SimOptions {
 /// Errors: a plan that does not match the instance (its placement or actions cannot be read),
 /// or options out of range. A plan that fails in simulation is not an error: the report says
 /// which action and box, and by how much.
-pub fn simulate(inst: &Instance, plan: &Plan, opts: &SimOptions) -> Result<SimReport> {
+pub fn simulate(inst: &Instance, plan: &impl Replayable, opts: &SimOptions) -> Result<SimReport> {
+    replay(inst, plan, opts, false)
+}
+
+/// Replay until the first action out of tolerance, and report the actions up to it (the boxes
+/// as they are then): what a planner needs to know which action to avoid.
+pub fn first_failure(inst: &Instance, plan: &impl Replayable, opts: &SimOptions) -> Result<SimReport> {
+    replay(inst, plan, opts, true)
+}
+
+fn replay(inst: &Instance, plan: &impl Replayable, opts: &SimOptions, stop_at_failure: bool) -> Result<SimReport> {
     opts.validate()?;
-    let placement = plan.placement(inst)?;
-    let actions = plan.actions(inst)?;
+    let placement = plan.replay_placement(inst)?;
+    let actions = plan.replay_actions(inst)?;
     let started = Instant::now();
     let mut r = Replay {
         inst,
@@ -123,10 +216,18 @@ pub fn simulate(inst: &Instance, plan: &Plan, opts: &SimOptions) -> Result<SimRe
         opts,
         world: World::for_instance(inst, opts),
         in_container: Vec::new(),
+        rng: opts
+            .perturb
+            .map(|p| rand_chacha::ChaCha8Rng::seed_from_u64(p.seed ^ 0x5eed_0f_e77025)),
     };
     let mut action_reports = Vec::with_capacity(actions.len());
     for (k, a) in actions.iter().enumerate() {
-        action_reports.push(r.action(k + 1, a));
+        let report = r.action(k + 1, a);
+        let failed = !report.ok;
+        action_reports.push(report);
+        if failed && stop_at_failure {
+            break;
+        }
     }
     let boxes = (0..inst.objects.len()).map(|i| r.final_box(i)).collect();
     Ok(SimReport::new(
@@ -155,6 +256,8 @@ struct Replay<'a> {
     opts: &'a SimOptions,
     world: World,
     in_container: Vec<usize>,
+    /// Draws of the release errors, when perturbed.
+    rng: Option<rand_chacha::ChaCha8Rng>,
 }
 
 impl Replay<'_> {
@@ -204,11 +307,16 @@ impl Replay<'_> {
         let t = self.placement.targets[object];
         let (w, d, h) = (t.rect.width(), t.rect.depth(), t.height);
         let half = Vector3::new(w / 2.0, d / 2.0, h / 2.0);
+        // A release error moves the whole gripper, box and fingers together: the TCP lands off
+        // its planned point and the hand is turned about the vertical through it.
+        let (release, turn) = self.release_error(object, half, release);
+        let rot = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), turn);
         // TCP → box centre and finger centres: the fingertips are at the TCP, the plates reach
         // up from it, each against one face of the box along the grasp axis.
         let to_box = Vector3::new(0.0, 0.0, h / 2.0 - (h - g.grasp_depth));
         let mut side = Vector3::zeros();
         side[axis.index()] = half[axis.index()] + g.finger_thickness / 2.0;
+        let side = rot * side;
         let up = Vector3::new(0.0, 0.0, g.finger_length / 2.0);
         let above = Vector3::new(release.x, release.y, release.z.max(self.free_height()));
 
@@ -221,6 +329,11 @@ impl Replay<'_> {
             self.world.kinematic_box(fhalf, above + up + side, None),
             self.world.kinematic_box(fhalf, above + up - side, None),
         ];
+        if turn != 0.0 {
+            for k in [held, fingers[0], fingers[1]] {
+                self.world.turn(k, turn);
+            }
+        }
         self.move_rigid(
             &[(held, to_box), (fingers[0], up + side), (fingers[1], up - side)],
             above,
@@ -232,8 +345,9 @@ impl Replay<'_> {
         self.in_container.push(object);
         let released_at = self.world.object_pose(object).expect("just added");
         // Open: each plate moves out by the release clearance.
-        let mut open = side;
-        open[axis.index()] += g.release_clearance;
+        let mut out = Vector3::zeros();
+        out[axis.index()] = g.release_clearance;
+        let open = side + rot * out;
         let n = steps_for(g.release_clearance, self.opts.move_speed, self.opts.dt);
         for s in 1..=n {
             let f = s as f64 / n as f64;
@@ -267,6 +381,77 @@ impl Replay<'_> {
             self.disturbed(&watch, &[object]),
             &self.opts.tolerances,
         )
+    }
+
+    /// The release error of one place, when the replay is perturbed: the TCP's floor offset and
+    /// the hand's turn (rad). A box cannot come down inside a neighbour or a wall: their faces
+    /// guide it, so the offset is corrected out of each overlap (of the bounding rectangles)
+    /// along the axis of the smaller one. A release error then only opens a gap, or closes one
+    /// to contact.
+    fn release_error(&mut self, object: usize, half: Vector3<f64>, release: Vector3<f64>) -> (Vector3<f64>, f64) {
+        let (Some(p), Some(rng)) = (self.opts.perturb, self.rng.as_mut()) else {
+            return (release, 0.0);
+        };
+        let mut draw = |m: f64| rng.random_range(-1.0..=1.0) * m;
+        let (dx, dy, turn) = (draw(p.release_offset), draw(p.release_offset), draw(p.release_yaw));
+        // Between faces on both sides a turned box does not fit: they align it as it comes
+        // down, so it lands unturned.
+        let mut turn = turn;
+        let mut c = [release.x + dx, release.y + dy];
+        for _ in 0..2 {
+            c = [release.x + dx, release.y + dy];
+            if self.guide(object, &mut c, turn, &half) {
+                break;
+            }
+            turn = 0.0;
+        }
+        (Vector3::new(c[0], c[1], release.z), turn)
+    }
+
+    /// Move the footprint centred at `c` (turned `turn`, half extents `half`) out of the walls
+    /// and the boxes in the container, each overlap along the axis of its smaller extent; false
+    /// when it still overlaps something after a few rounds (it does not fit turned).
+    fn guide(&self, object: usize, c: &mut [f64; 2], turn: f64, half: &Vector3<f64>) -> bool {
+        let bounds = |c: [f64; 2], yaw: f64, h: &Vector3<f64>| {
+            let (s, co) = yaw.sin_cos();
+            let e = [h.x * co.abs() + h.y * s.abs(), h.x * s.abs() + h.y * co.abs()];
+            Rect {
+                x0: c[0] - e[0],
+                x1: c[0] + e[0],
+                y0: c[1] - e[1],
+                y1: c[1] + e[1],
+            }
+        };
+        let floor = self.inst.container.floor();
+        for _ in 0..4 {
+            let me = bounds(*c, turn, half);
+            let mut shift = [
+                (floor.x0 - me.x0).max(0.0) - (me.x1 - floor.x1).max(0.0),
+                (floor.y0 - me.y0).max(0.0) - (me.y1 - floor.y1).max(0.0),
+            ];
+            for &j in self.in_container.iter().filter(|&&j| j != object) {
+                let t = self.placement.targets[j];
+                let hj = Vector3::new(t.rect.width() / 2.0, t.rect.depth() / 2.0, t.height / 2.0);
+                let pj = self.world.object_pose(j).expect("in the container");
+                let tj = pj.translation.vector;
+                let other = bounds([tj.x, tj.y], pj.rotation.euler_angles().2, &hj);
+                let (ox, oy) = (me.overlap_on(&other, Axis2::X), me.overlap_on(&other, Axis2::Y));
+                if ox <= 1e-7 || oy <= 1e-7 {
+                    continue;
+                }
+                let (mc, oc) = (me.center(), other.center());
+                if ox < oy {
+                    shift[0] += ox.copysign(mc[0] - oc[0]);
+                } else {
+                    shift[1] += oy.copysign(mc[1] - oc[1]);
+                }
+            }
+            if shift.iter().all(|v| v.abs() <= 1e-7) {
+                return true;
+            }
+            *c = [c[0] + shift[0], c[1] + shift[1]];
+        }
+        false
     }
 
     fn push(

@@ -4,10 +4,9 @@
 
 use serde::Serialize;
 
-use super::{simulate, SimOptions, SimReport};
+use super::{simulate, Replayable, SimOptions, SimReport};
 use crate::error::Result;
 use crate::instance::Instance;
-use crate::plan::Plan;
 
 /// The settings a sweep varies around `base`: the base itself, half the step, a half and a
 /// quarter of the push speed, and contacts two thirds and four thirds as stiff. Each is a
@@ -48,7 +47,7 @@ pub struct SweepRun {
 }
 
 /// Replay `plan` under every one of [`variants`]`(base)`.
-pub fn sweep(inst: &Instance, plan: &Plan, base: &SimOptions) -> Result<Vec<SweepRun>> {
+pub fn sweep(inst: &Instance, plan: &impl Replayable, base: &SimOptions) -> Result<Vec<SweepRun>> {
     variants(base)
         .into_iter()
         .map(|(setting, o)| {

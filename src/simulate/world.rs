@@ -1,7 +1,7 @@
 //! The rapier3d scene of a replay: floor, walls, boxes and fingers in the container frame C,
 //! with each contact pair's friction coefficient taken from the instance.
 
-use crate::geometry::parry_bridge::{from_parry_pose, to_parry_vec};
+use crate::geometry::parry_bridge::{from_parry_pose, to_parry_pose, to_parry_vec};
 use crate::geometry::Box3;
 use crate::instance::Instance;
 use nalgebra::{Isometry3, Vector3};
@@ -99,10 +99,20 @@ pub struct World {
 impl World {
     /// Floor and walls of the instance's container (C frame, z up from the floor), no objects.
     pub fn for_instance(inst: &Instance, opts: &SimOptions) -> World {
+        use rand::{RngExt, SeedableRng};
+        // Friction errors, when perturbed: every coefficient of every object scaled alone.
+        let mut rng = opts
+            .perturb
+            .map(|p| (p.friction, rand_chacha::ChaCha8Rng::seed_from_u64(p.seed)));
         let coefficients = inst
             .objects
             .iter()
-            .map(|o| [o.mu_floor, o.mu_obj, o.mu_finger])
+            .map(|o| {
+                [o.mu_floor, o.mu_obj, o.mu_finger].map(|mu| match rng.as_mut() {
+                    Some((f, r)) => mu * (1.0 + *f * r.random_range(-1.0..=1.0)),
+                    None => mu,
+                })
+            })
             .collect();
         World::new(&inst.container.walls(), coefficients, opts)
     }
@@ -184,6 +194,24 @@ impl World {
         self.objects[i] = Some(handle);
         self.friction.held = Some(i);
         Kinematic { handle }
+    }
+
+    /// Turn a carried object about the vertical through its centre by `yaw` (rad): a release
+    /// error, for the side-contact cases of `tests/simulate_side.rs`.
+    pub fn turn(&mut self, k: Kinematic, yaw: f64) {
+        self.displace(k, 0.0, 0.0, yaw);
+    }
+
+    /// Move a carried object by `(dx, dy)` on the floor and turn it by `yaw` about the vertical
+    /// through its centre: a release error.
+    pub fn displace(&mut self, k: Kinematic, dx: f64, dy: f64, yaw: f64) {
+        let b = &mut self.world.bodies[k.handle];
+        let p = from_parry_pose(b.position());
+        let moved = Isometry3::from_parts(
+            (p.translation.vector + Vector3::new(dx, dy, 0.0)).into(),
+            nalgebra::UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw) * p.rotation,
+        );
+        b.set_position(to_parry_pose(&moved), true);
     }
 
     /// Let go of a carried object: from now on gravity and contacts move it.

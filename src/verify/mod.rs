@@ -13,6 +13,7 @@
 //! stops the replay.
 
 mod claims;
+mod physics;
 mod slabs;
 pub mod trajectories;
 
@@ -46,6 +47,9 @@ pub enum ViolationClass {
     FingerSlab,
     /// A push sweeps an object through another, or the moving pusher hits a wall or an object.
     SweptSpace,
+    /// A pushed object slides along a neighbour that nothing holds against the push, or into a
+    /// slot the instance forbids (`actions::push::side`).
+    SideContact,
     /// A push is not stable by the required margin, or its recorded margin is wrong.
     PushStability,
     /// An action does not fit the state it runs in (placed twice, pushed before its place, malformed line).
@@ -60,6 +64,9 @@ pub enum ViolationClass {
     /// A joint trajectory violates a joint limit, disagrees with its recorded TCP poses (FK),
     /// jumps between points, or collides (checked by `robot::check_trajectories`).
     Robot,
+    /// The physics replay (`simulate`) moves a box out of the push tolerances: an action turns
+    /// or drifts a box it moves, disturbs one it should not, or a box ends off its target.
+    Physics,
 }
 
 impl ViolationClass {
@@ -72,12 +79,14 @@ impl ViolationClass {
             ViolationClass::Wall => "wall",
             ViolationClass::FingerSlab => "finger_slab",
             ViolationClass::SweptSpace => "swept_space",
+            ViolationClass::SideContact => "side_contact",
             ViolationClass::PushStability => "push_stability",
             ViolationClass::Precedence => "precedence",
             ViolationClass::FinalPose => "final_pose",
             ViolationClass::Metrics => "metrics",
             ViolationClass::Claim => "claim",
             ViolationClass::Robot => "robot",
+            ViolationClass::Physics => "physics",
         }
     }
 }
@@ -124,13 +133,55 @@ pub struct Report {
     /// are reported but do not make it invalid, and it is never executable.
     #[serde(default)]
     pub packing_only: bool,
+    /// Whether the physics replay ran, and what it found (class `physics`).
+    #[serde(default)]
+    pub physics: PhysicsCheck,
+    /// Every action and box the physics replay found out of tolerance (class `physics`).
+    #[serde(default)]
+    pub physics_issues: Vec<Violation>,
+}
+
+/// Whether the verifier replayed a plan in the physics engine ([`crate::simulate`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "replay")]
+pub enum PhysicsCheck {
+    /// Not replayed: the plan already fails another condition, is packing-only, or the caller
+    /// turned the replay off ([`VerifyOptions::physics`]). Such a plan is never executable.
+    #[default]
+    NotRun,
+    /// Replayed with the instance's settings and tolerances.
+    Replayed {
+        /// Every action and box within tolerance.
+        ok: bool,
+        /// The worst box at the end: distance from its target (mm) and rotation (°).
+        worst_mm: f64,
+        /// Its rotation (°).
+        worst_deg: f64,
+        /// Wall-clock time of the replay (s).
+        wall_s: f64,
+    },
+}
+
+/// What [`verify_with`] checks. Default: everything.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VerifyOptions {
+    /// Replay an otherwise executable plan in the physics engine (default true). Without it no
+    /// plan is called executable.
+    pub physics: bool,
+}
+
+impl Default for VerifyOptions {
+    fn default() -> Self {
+        VerifyOptions { physics: true }
+    }
 }
 
 impl Report {
     /// True when the plan violates none of the conditions it claims to meet: every packing
-    /// condition, and every robot and trajectory condition unless it is packing-only.
+    /// condition, and every robot, trajectory and physics condition unless it is packing-only.
     pub fn is_valid(&self) -> bool {
-        self.violations.is_empty() && (self.packing_only || self.robot_issues.is_empty())
+        self.violations.is_empty()
+            && (self.packing_only || (self.robot_issues.is_empty() && self.physics_issues.is_empty()))
     }
 
     /// True when the packing is valid (whatever the robot issues).
@@ -138,8 +189,20 @@ impl Report {
         self.violations.is_empty()
     }
 
-    /// True when the robot can run the plan: valid, not packing-only, no robot issue.
+    /// True when the robot can run the plan: valid, not packing-only, no robot issue, and the
+    /// physics replay ran and kept every box within tolerance. The one meaning of "executable"
+    /// (planner, verifier, bench, report and export use it).
     pub fn is_executable(&self) -> bool {
+        self.violations.is_empty()
+            && self.robot_issues.is_empty()
+            && !self.packing_only
+            && self.physics_issues.is_empty()
+            && matches!(self.physics, PhysicsCheck::Replayed { ok: true, .. })
+    }
+
+    /// Valid and free of robot issues, but the physics replay was not run: what a run with the
+    /// replay turned off can say at most.
+    pub fn is_robot_valid(&self) -> bool {
         self.violations.is_empty() && self.robot_issues.is_empty() && !self.packing_only
     }
 
@@ -151,9 +214,24 @@ impl Report {
 
 impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let n = self.violations.len() + if self.packing_only { 0 } else { self.robot_issues.len() };
+        let n = self.violations.len()
+            + if self.packing_only {
+                0
+            } else {
+                self.robot_issues.len() + self.physics_issues.len()
+            };
         if self.is_executable() {
-            write!(f, "plan is valid and executable ({} steps checked)", self.steps_checked)?;
+            write!(
+                f,
+                "plan is valid and executable ({} steps checked, physics replay within tolerance)",
+                self.steps_checked
+            )?;
+        } else if self.is_robot_valid() && self.physics_issues.is_empty() {
+            write!(
+                f,
+                "plan is valid for the robot, not called executable: the physics replay was not run ({} steps checked)",
+                self.steps_checked
+            )?;
         } else if self.is_valid() {
             write!(
                 f,
@@ -186,12 +264,34 @@ impl fmt::Display for Report {
                 write!(f, "\n  {v}")?;
             }
         }
+        if !self.physics_issues.is_empty() {
+            write!(f, "\nphysics replay: {} problem(s):", self.physics_issues.len())?;
+            for v in &self.physics_issues {
+                write!(f, "\n  {v}")?;
+            }
+        }
         Ok(())
     }
 }
 
-/// Replay `plan` against `inst` and report every violated condition.
+/// Replay `plan` against `inst` and report every violated condition, the physics replay's
+/// included ([`VerifyOptions::default`]).
 pub fn verify(inst: &Instance, plan: &Plan) -> Report {
+    verify_with(inst, plan, &VerifyOptions::default())
+}
+
+/// [`verify`] with a choice of checks. The physics replay runs last, and only on a plan that
+/// passes every other condition and is not packing-only: it judges how the boxes move, which
+/// is moot for a plan that is invalid already.
+pub fn verify_with(inst: &Instance, plan: &Plan, opts: &VerifyOptions) -> Report {
+    let mut report = verify_static(inst, plan);
+    if opts.physics && report.is_robot_valid() {
+        physics::check(inst, plan, &mut report);
+    }
+    report
+}
+
+fn verify_static(inst: &Instance, plan: &Plan) -> Report {
     let mut out = Vec::new();
     let fmt_err = |message: String| Violation {
         step: None,
@@ -221,6 +321,8 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
                 steps_checked: 0,
                 robot_issues: Vec::new(),
                 packing_only: plan.options.packing_only,
+                physics: PhysicsCheck::NotRun,
+                physics_issues: Vec::new(),
             };
         }
     };
@@ -233,6 +335,8 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
                 steps_checked: 0,
                 robot_issues: Vec::new(),
                 packing_only: plan.options.packing_only,
+                physics: PhysicsCheck::NotRun,
+                physics_issues: Vec::new(),
             };
         }
     };
@@ -276,6 +380,8 @@ pub fn verify(inst: &Instance, plan: &Plan) -> Report {
         steps_checked: actions.len(),
         robot_issues,
         packing_only: plan.options.packing_only,
+        physics: PhysicsCheck::NotRun,
+        physics_issues: Vec::new(),
     }
 }
 

@@ -254,6 +254,7 @@ impl<'a> Replay<'a> {
         };
         self.check_line_offsets(s, line, &offsets, distance);
         self.check_push_space(s, line, dir, at, &rel);
+        self.check_side_contacts(s, line, dir, &rel);
         self.check_push_stability(s, line, dir, at, &offsets, e);
         for &i in line {
             self.state[i] = Where::AtTarget;
@@ -351,6 +352,56 @@ impl<'a> Replay<'a> {
                 ),
             );
         }
+    }
+
+    /// No pushed object slides along a box that nothing holds against the push (nor into a
+    /// slot, when the instance forbids them): the push model's side contacts
+    /// (`actions::push::side`), asked with the verifier's own record of the container.
+    fn check_side_contacts(&mut self, s: Option<usize>, line: &[usize], dir: PushDir, rel: &[Rect]) {
+        use crate::actions::push::side::{side_failure, SideFailure, SideRule, Standing};
+        let settings = &self.inst.settings;
+        if !settings.side_contacts {
+            return;
+        }
+        let moving: Vec<(usize, Rect)> = line
+            .iter()
+            .zip(rel)
+            .map(|(&i, r)| (i, r.union(&self.target(i))))
+            .collect();
+        let standing: Vec<Standing> = (0..self.state.len())
+            .filter(|i| !line.contains(i))
+            .filter_map(|i| match self.state[i] {
+                Where::Table => None,
+                Where::Released { rect, .. } => Some(Standing {
+                    object: i,
+                    rect,
+                    at_target: false,
+                }),
+                Where::AtTarget => Some(Standing {
+                    object: i,
+                    rect: self.target(i),
+                    at_target: true,
+                }),
+            })
+            .collect();
+        let rule = SideRule {
+            clearance: settings.side_clearance,
+            assume_held: false,
+            forbid_slots: settings.forbid_slots,
+        };
+        let message = match side_failure(&self.inst.container.floor(), &moving, &standing, dir, &rule) {
+            None => return,
+            Some(SideFailure::Drags { moving, neighbour }) => format!(
+                "{} slides along {} at less than the side clearance, and nothing holds {} against the push",
+                self.id(moving),
+                self.id(neighbour),
+                self.id(neighbour)
+            ),
+            Some(SideFailure::Wedged { moving }) => {
+                format!("{} slides into a slot (faces on both of its sides)", self.id(moving))
+            }
+        };
+        self.flag(s, ViolationClass::SideContact, message);
     }
 
     /// The pusher lowers behind the back object without a hit, and neither the pushed objects

@@ -14,6 +14,8 @@
 //!   reused between calls and 2-D results are cached by geometry.
 //! * [`robust`] — the same check over intervals of friction and a region of centres of friction.
 //! * [`scenario`] — the `push-check` scenario format, [`load_scenario`] and [`check_scenario`].
+//! * [`side`] — the faces beside the line: neighbours a pushed box would drag, slots that
+//!   wedge it.
 //! * [`analytic`] — the paper's closed-form condition and the closed forms of
 //!   `docs/push_stability.md`; an independent test oracle only.
 //!
@@ -30,6 +32,7 @@ pub mod convex;
 pub mod model;
 pub mod robust;
 pub mod scenario;
+pub mod side;
 pub mod travel;
 
 pub use convex::{CheckOptions, ContactForce, Dim, FloorForce, PhaseResult, PhaseStatus};

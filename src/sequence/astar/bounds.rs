@@ -202,7 +202,8 @@ impl<'a> Search<'a> {
             return b.clone();
         }
         let inst = self.inst;
-        let empty = Layout::new(inst, self.placement);
+        let mut empty = Layout::new(inst, self.placement);
+        empty.assume_held = true;
         let d = inst.gripper.min_offset;
         let mut out = Vec::new();
         let keyed = (0..2).flat_map(|ax| place_modes(self.opts.no_direct, self.steps[i], d).map(move |m| (ax, m)));

@@ -180,6 +180,9 @@ pub(super) fn with_released<'a>(
     dir: PushDir,
 ) -> Layout<'a> {
     let mut layout = Layout::new(inst, placement);
+    // The blockers found here are single objects taken for good: only a monotone side rule
+    // keeps them a relaxation.
+    layout.assume_held = true;
     for (i, m) in released {
         let offset = inst.gripper.min_offset * m as f64;
         let mode = PlaceMode::Indirect { push_dir: dir, offset };

@@ -210,6 +210,8 @@ struct Search<'a> {
     inst: &'a Instance,
     placement: &'a Placement,
     opts: SequenceOptions,
+    /// `opts.vetoes` as every state's layout holds them.
+    vetoes: Option<std::sync::Arc<[crate::actions::veto::Veto]>>,
     info: Vec<ObjectInfo>,
     /// Per push direction, the objects whose targets sit directly behind each object's (the
     /// edges of the lines one push moves, as in [`lines`]); bit `b` of `behind[k][a]`.

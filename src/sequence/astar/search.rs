@@ -60,7 +60,7 @@ pub fn solve_with(
             format!("must be 1..={MAX_OFFSET_STEPS}"),
         ));
     }
-    let mut s = Search::new(inst, placement, *opts, *settings);
+    let mut s = Search::new(inst, placement, opts.clone(), *settings);
     let (mx, my) = placement.extent();
     let mut root = Node {
         state: vec![ObjState::Table; inst.n()],

@@ -11,7 +11,8 @@ impl<'a> Search<'a> {
     ) -> Self {
         let zt = transfer_z(inst);
         let g = &inst.gripper;
-        let layout = Layout::new(inst, placement);
+        let mut layout = Layout::new(inst, placement);
+        layout.assume_held = true;
         let ranks = PushDir::ALL.map(|dir| line_rank(placement, dir));
         let steps: Vec<[usize; 2]> = (0..inst.n())
             .map(|i| [0, 1].map(|k| settings.max_offset_steps.max(ranks[k][i]).min(MAX_OFFSET_STEPS)))
@@ -64,6 +65,7 @@ impl<'a> Search<'a> {
         Search {
             inst,
             placement,
+            vetoes: opts.layout_vetoes(),
             opts,
             info,
             behind,
@@ -169,6 +171,7 @@ impl<'a> Search<'a> {
     pub(super) fn layout(&self, state: &[ObjState]) -> Layout<'a> {
         let mut l = Layout::new(self.inst, self.placement);
         l.state = state.to_vec();
+        l.vetoes = self.vetoes.clone();
         l
     }
 }
