@@ -11,10 +11,12 @@ use pushpack::verify::verify;
 use std::path::{Path, PathBuf};
 
 mod commands;
+mod inputs;
 mod progress;
 mod summary;
 
 use commands::*;
+use inputs::*;
 use summary::*;
 
 /// Exit code for success.
@@ -763,19 +765,6 @@ fn cmd_place(
         }
     }
     Ok(EXIT_OK)
-}
-
-/// Load a plan and its instance (the one given, else the one the plan records).
-fn load_plan_instance(plan: &Path, instance: Option<&Path>) -> Result<(Plan, Instance), Error> {
-    let p = Plan::load(plan)?;
-    let inst = match instance {
-        Some(i) => Instance::load(i)?,
-        None => Instance::load(&p.instance.source)?,
-    };
-    if inst.digest != p.instance.digest {
-        eprintln!("warning: the instance file changed since the plan was made (digest differs)");
-    }
-    Ok((p, inst))
 }
 
 /// `--threads N`: 1 to 256.
