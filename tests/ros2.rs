@@ -258,6 +258,24 @@ fn gripper_commands_squeeze_each_grasp_with_the_instances_effort() {
         .replacen("[gripper]\n", "[gripper]\nsqueeze = 0.3\nmax_effort = 15\n", 1);
     let inst = common::parse(&text);
     assert_eq!((inst.gripper.squeeze, inst.gripper.max_effort), (0.003, 15.0));
+    let plain = common::load("paper/exp1_4objects.toml");
+    assert_eq!(
+        (plain.gripper.squeeze, plain.gripper.max_effort),
+        (0.002, 20.0),
+        "the defaults"
+    );
+    for (bad, field) in [
+        ("squeeze = -0.1", "gripper.squeeze"),
+        ("max_effort = 0", "gripper.max_effort"),
+        ("max_effort = nan", "gripper.max_effort"),
+    ] {
+        let t = text.replacen("[gripper]\n", &format!("[gripper]\n{bad}\n"), 1);
+        let t = t.replacen("squeeze = 0.3\nmax_effort = 15\n", "", 1);
+        let e = pushpack::Instance::parse(&t, false, "bad.toml", None)
+            .expect_err(bad)
+            .to_string();
+        assert!(e.contains("bad.toml") && e.contains(field), "{bad}: {e}");
+    }
     let plan = optimize(&inst, &PlanOptions::from_instance(&inst)).expect("plans").plan;
     let dir = tempfile::tempdir().unwrap();
     export_with(
