@@ -7,8 +7,8 @@
     python3 scripts/ros2_send.py goals/ --dry-run       # print what would be sent, as JSON; no ROS
 
 The goals are read from the files that `goals/ros2_goals.yaml` names and handed to rclpy's
-action clients as messages, never through a command line: one arm's goal for exp2 is about a
-megabyte, and one shell argument may hold 128 KiB.
+action clients as messages, never through a command line: one arm's goal for exp2 is 0.7 MB,
+and one shell argument may hold 128 KiB.
 
 Modes:
 * `blocking` runs `action_list.yaml`: each `trajectories` step sends one

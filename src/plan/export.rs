@@ -376,7 +376,7 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
 /// Write the plan's joint trajectories in `format` into `out_dir` (created if needed): one file
 /// per arm that moves (`left_arm.yaml`, `right_arm.csv`, …), or the ROS 2 files. Returns the
 /// paths written. Fails when the plan has no trajectories or a trajectory of it has an error.
-/// It does not judge whether the robot can run the plan: call [`crate::verify`] first.
+/// It does not judge whether the robot can run the plan: call [`crate::verify::verify`] first.
 pub fn export_with(plan: &Plan, format: ExportFormat, out_dir: &Path, opts: &ExportOptions) -> Result<Vec<PathBuf>> {
     let file = "plan.json";
     if plan.trajectories.is_empty() {

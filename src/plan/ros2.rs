@@ -253,7 +253,7 @@ fn names(v: &[String]) -> String {
 }
 
 /// One arm's `control_msgs/action/FollowJointTrajectory` goal as YAML (every field of the goal,
-/// Humble and later). It is large (about 1 MB for exp2), beyond what one shell argument may
+/// Humble and later). It is large (0.7 MB for exp2), beyond what one shell argument may
 /// hold: send it with `scripts/ros2_send.py`, which reads it from the file.
 pub fn arm_goal_yaml(frame_id: &str, g: &ArmGoal) -> String {
     let mut s = String::new();
