@@ -372,12 +372,12 @@ pub fn run_batch(cfg: &BenchConfig) -> Result<BenchSummary> {
             if pb.is_hidden() {
                 // No terminal (a batch job's log): one line per run instead of the bar.
                 eprintln!(
-                    "[{}/{}] {} {}: {:?} {:.1} s",
+                    "[{}/{}] {} {}: {} {:.1} s",
                     pb.position(),
                     pending.len(),
                     job.path,
                     job.spec,
-                    row.status,
+                    row.status.as_str(),
                     row.wall_time_s
                 );
             }

@@ -136,6 +136,67 @@ pub(super) fn cmd_simulate(cmd: Cmd) -> Result<i32, Error> {
     Ok(if report.ok { EXIT_OK } else { EXIT_FAIL })
 }
 
+/// `pushpack export`: verifies the plan first, because a controller runs whatever it is sent.
+pub(super) fn cmd_export(cmd: Cmd) -> Result<i32, Error> {
+    let Cmd::Export {
+        plan,
+        format,
+        out,
+        instance,
+        packing_only,
+        left_controller,
+        right_controller,
+        left_gripper_controller,
+        right_gripper_controller,
+    } = cmd
+    else {
+        unreachable!("run dispatches only Cmd::Export here")
+    };
+    let fmt: pushpack::plan::export::ExportFormat = format
+        .parse()
+        .map_err(|e: String| Error::input("<command line>", "--format", e))?;
+    let (p, inst) = load_plan_instance(&plan, instance.as_deref())?;
+    let opts = pushpack::plan::export::ExportOptions {
+        left_controller,
+        right_controller,
+        left_gripper_controller,
+        right_gripper_controller,
+        ..pushpack::plan::export::ExportOptions::from_instance(&inst)
+    };
+    opts.check("<command line>")?;
+    let report = pushpack::verify(&inst, &p);
+    if !report.is_packing_valid() {
+        eprintln!(
+            "error: {} is not a valid packing ({} violation(s); `pushpack verify` lists them); nothing exported",
+            plan.display(),
+            report.violations.len()
+        );
+        return Ok(EXIT_FAIL);
+    }
+    if !report.is_executable() {
+        let why = if report.packing_only {
+            "it was planned as a packing-only study".to_string()
+        } else {
+            format!("{} robot issue(s)", report.robot_issues.len())
+        };
+        if !packing_only {
+            eprintln!(
+                "error: {} is not executable ({why}; `pushpack verify` lists them), so a controller must not run it; nothing exported. Give --packing-only to export it anyway.",
+                plan.display()
+            );
+            return Ok(EXIT_FAIL);
+        }
+        eprintln!(
+            "warning: {} is not executable ({why}); exported because of --packing-only: do not send it to a robot",
+            plan.display()
+        );
+    }
+    for f in pushpack::plan::export::export_with(&p, fmt, &out, &opts)? {
+        println!("wrote {}", f.display());
+    }
+    Ok(EXIT_OK)
+}
+
 /// `pushpack bench`.
 pub(super) fn cmd_bench(cmd: Cmd) -> Result<i32, Error> {
     let Cmd::Bench {

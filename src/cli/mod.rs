@@ -10,10 +10,12 @@ use pushpack::simulate::SimOptions;
 use std::path::{Path, PathBuf};
 
 mod commands;
+mod inputs;
 mod progress;
 mod summary;
 
 use commands::*;
+use inputs::*;
 use summary::*;
 
 /// Exit code for success.
@@ -154,18 +156,38 @@ enum Cmd {
         #[arg(long, requires = "robust")]
         min_share: Option<f64>,
     },
-    /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, or CSV).
+    /// Export a plan's joint trajectories per arm (ROS JointTrajectory YAML/JSON, CSV, or ROS 2
+    /// goals). Refuses a plan the robot cannot run unless `--packing-only`.
     Export {
         /// plan.json.
         plan: PathBuf,
         /// `ros-yaml`, `ros-json`, `csv` (ROS 1 messages or CSV, one file per arm) or `ros2-goal`
-        /// (a ROS 2 FollowJointTrajectory goal for both arms, the gripper commands, and both as one
-        /// blocking action list).
+        /// (a ROS 2 FollowJointTrajectory goal per arm, the gripper commands, all as one
+        /// blocking action list, and a manifest naming the action servers).
         #[arg(long, default_value = "ros-yaml")]
         format: String,
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// The instance file (default: the path recorded in the plan). The export verifies the
+        /// plan against it and takes the gripper's squeeze and effort from it.
+        #[arg(long)]
+        instance: Option<PathBuf>,
+        /// Export even when the robot cannot run the plan (a packing study's plan).
+        #[arg(long)]
+        packing_only: bool,
+        /// ROS 2: trajectory controller of the left arm.
+        #[arg(long, default_value = "larm_controller")]
+        left_controller: String,
+        /// ROS 2: trajectory controller of the right arm.
+        #[arg(long, default_value = "rarm_controller")]
+        right_controller: String,
+        /// ROS 2: gripper action controller of the left hand (`NAME/gripper_cmd`).
+        #[arg(long, default_value = "lhand_controller")]
+        left_gripper_controller: String,
+        /// ROS 2: gripper action controller of the right hand.
+        #[arg(long, default_value = "rhand_controller")]
+        right_gripper_controller: String,
     },
     /// Decide one push from a scenario file (JSON): verdict, margin and certificate.
     PushCheck {
@@ -462,20 +484,7 @@ fn run(cmd: Cmd) -> Result<i32, Error> {
         } => cmd_plan(instance, out, opts, no_render, compare_ablations),
         cmd @ Cmd::Verify { .. } => cmd_verify(cmd),
         cmd @ Cmd::Simulate { .. } => cmd_simulate(cmd),
-        Cmd::Export { plan, format, out } => {
-            let p = Plan::load(&plan)?;
-            let fmt: pushpack::plan::export::ExportFormat = format
-                .parse()
-                .map_err(|e: String| Error::input("<command line>", "--format", e))?;
-            std::fs::create_dir_all(&out).map_err(|e| Error::Io {
-                path: out.clone(),
-                source: e,
-            })?;
-            for f in pushpack::plan::export::export(&p, fmt, &out)? {
-                println!("wrote {}", f.display());
-            }
-            Ok(EXIT_OK)
-        }
+        cmd @ Cmd::Export { .. } => cmd_export(cmd),
         Cmd::PushCheck { scenario, json } => {
             let sc = pushpack::actions::push::load_scenario(&scenario)?;
             let report = pushpack::actions::push::check_scenario(&sc);
@@ -799,19 +808,6 @@ fn cmd_place(
         }
     }
     Ok(EXIT_OK)
-}
-
-/// Load a plan and its instance (the one given, else the one the plan records).
-fn load_plan_instance(plan: &Path, instance: Option<&Path>) -> Result<(Plan, Instance), Error> {
-    let p = Plan::load(plan)?;
-    let inst = match instance {
-        Some(i) => Instance::load(i)?,
-        None => Instance::load(&p.instance.source)?,
-    };
-    if inst.digest != p.instance.digest {
-        eprintln!("warning: the instance file changed since the plan was made (digest differs)");
-    }
-    Ok((p, inst))
 }
 
 /// `--threads N`: 1 to 256.

@@ -296,6 +296,8 @@ impl InstanceBuilder {
                 release_clearance: g.release_clearance,
                 min_offset: None,
                 push_height: None,
+                squeeze: None,
+                max_effort: None,
             },
             robot,
             planner: self.planner,

@@ -100,6 +100,12 @@ pub struct GripperFile {
     /// Height of the fingertips above the floor while pushing; default 0.005 m.
     #[serde(default)]
     pub push_height: Option<f64>,
+    /// How much narrower than the object a grasp command closes (length); default 2 mm.
+    #[serde(default)]
+    pub squeeze: Option<f64>,
+    /// Largest grip force of a gripper command, in newtons whatever `units` says; default 20.
+    #[serde(default)]
+    pub max_effort: Option<f64>,
 }
 
 /// Robot and work cell.

@@ -147,6 +147,8 @@ pub fn random_instance(p: &GenerateParams) -> Result<InstanceFile, String> {
             release_clearance: 0.005,
             min_offset: None,
             push_height: None,
+            squeeze: None,
+            max_effort: None,
         },
         robot: RobotFile::default(),
         planner: PlannerFile { seed: Some(p.seed), ..PlannerFile::default() },

@@ -229,6 +229,14 @@ pub(super) fn validate(f: InstanceFile, source: &str, base_dir: Option<&Path>, d
             Some(v) => l(c.non_negative("gripper.push_height", v)?),
             None => 0.005,
         },
+        squeeze: match g.squeeze {
+            Some(v) => l(c.non_negative("gripper.squeeze", v)?),
+            None => Gripper::DEFAULT_SQUEEZE,
+        },
+        max_effort: match g.max_effort {
+            Some(v) => c.positive("gripper.max_effort", v)?,
+            None => Gripper::DEFAULT_MAX_EFFORT,
+        },
     };
 
     if gripper.grasp_depth > gripper.finger_length + 1e-9 {

@@ -1,5 +1,6 @@
 //! Export of a plan's joint trajectories for a robot controller: one ROS 1
-//! `trajectory_msgs/JointTrajectory`-shaped message per arm (YAML or JSON) or one CSV per arm; or, for ROS 2, a goal for both arms with gripper commands ([`super::ros2`]).
+//! `trajectory_msgs/JointTrajectory`-shaped message per arm (YAML or JSON) or one CSV per arm;
+//! or, for ROS 2, one goal per arm with the gripper commands ([`super::ros2`]).
 //!
 //! Each arm's message holds every point of its moves in plan time (`time_from_start` from the
 //! start of the plan); while the other arm works, the arm holds still (two points with the same
@@ -24,9 +25,10 @@ pub enum ExportFormat {
     RosJson,
     /// CSV: `t` then one column per joint (`<arm>_arm.csv`).
     Csv,
-    /// ROS 2: one `control_msgs/action/FollowJointTrajectory` goal for both arms
-    /// (`both_arms_goal.yaml`), the gripper commands on its clock (`gripper_commands.yaml`),
-    /// and both as one blocking action list (`action_list.yaml`); see [`super::ros2`].
+    /// ROS 2: one `control_msgs/action/FollowJointTrajectory` goal per arm
+    /// (`left_arm_goal.yaml`, `right_arm_goal.yaml`), the gripper commands on their clock
+    /// (`gripper_commands.yaml`), all as one blocking action list (`action_list.yaml`), and the
+    /// action servers to send them to (`ros2_goals.yaml`); see [`super::ros2`].
     Ros2Goal,
 }
 
@@ -65,6 +67,107 @@ impl std::str::FromStr for ExportFormat {
             other => Err(format!(
                 "unknown export format {other:?}: expected one of ros-yaml, ros-json, csv, ros2-goal"
             )),
+        }
+    }
+}
+
+/// What the ROS 2 export needs beyond the plan: the controllers' names and the gripper's
+/// squeeze and effort. [`Default`] is NEXTAGE's controllers and the instance defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportOptions {
+    /// Trajectory controller of the left arm (NEXTAGE: `larm_controller`).
+    pub left_controller: String,
+    /// Trajectory controller of the right arm (NEXTAGE: `rarm_controller`).
+    pub right_controller: String,
+    /// `GripperCommand` action server of the left hand, as a controller name
+    /// (`<name>/gripper_cmd`, as ros2_control's gripper action controller names it).
+    pub left_gripper_controller: String,
+    /// `GripperCommand` action server of the right hand.
+    pub right_gripper_controller: String,
+    /// How much narrower than the object a grasp command closes (m): the instance's
+    /// `gripper.squeeze`.
+    pub squeeze: f64,
+    /// `max_effort` of every gripper command (N): the instance's `gripper.max_effort`.
+    pub max_effort: f64,
+}
+
+impl Default for ExportOptions {
+    fn default() -> Self {
+        ExportOptions {
+            left_controller: "larm_controller".into(),
+            right_controller: "rarm_controller".into(),
+            left_gripper_controller: "lhand_controller".into(),
+            right_gripper_controller: "rhand_controller".into(),
+            squeeze: crate::instance::Gripper::DEFAULT_SQUEEZE,
+            max_effort: crate::instance::Gripper::DEFAULT_MAX_EFFORT,
+        }
+    }
+}
+
+impl ExportOptions {
+    /// The defaults with the instance's gripper squeeze and effort.
+    pub fn from_instance(inst: &crate::instance::Instance) -> Self {
+        ExportOptions {
+            squeeze: inst.gripper.squeeze,
+            max_effort: inst.gripper.max_effort,
+            ..Default::default()
+        }
+    }
+
+    /// Refuses a controller name ROS 2 would reject (the sender would fail on the robot, after
+    /// the files were written and checked) and a squeeze or effort that is not a finite number
+    /// ≥ 0. `file` names where the options came from in the error.
+    pub fn check(&self, file: &str) -> Result<()> {
+        let names = [
+            ("--left-controller", &self.left_controller),
+            ("--right-controller", &self.right_controller),
+            ("--left-gripper-controller", &self.left_gripper_controller),
+            ("--right-gripper-controller", &self.right_gripper_controller),
+        ];
+        for (field, name) in names {
+            // A ROS 2 name: tokens of letters, digits and `_`, not starting with a digit,
+            // separated by single `/`.
+            let ok = !name.is_empty()
+                && name.split('/').all(|t| {
+                    !t.is_empty()
+                        && !t.starts_with(|c: char| c.is_ascii_digit())
+                        && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+                });
+            if !ok {
+                return Err(Error::input(
+                    file,
+                    field,
+                    format!(
+                        "{name:?} is not a ROS 2 name: use letters, digits and `_` (not starting with a digit), tokens separated by `/`"
+                    ),
+                ));
+            }
+        }
+        for (field, v) in [("squeeze", self.squeeze), ("max_effort", self.max_effort)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::input(
+                    file,
+                    field,
+                    format!("must be a finite number >= 0, got {v}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The trajectory controller of `arm`.
+    pub fn controller(&self, arm: Arm) -> &str {
+        match arm {
+            Arm::Left => &self.left_controller,
+            Arm::Right => &self.right_controller,
+        }
+    }
+
+    /// The gripper controller of `arm`'s hand.
+    pub fn gripper_controller(&self, arm: Arm) -> &str {
+        match arm {
+            Arm::Left => &self.left_gripper_controller,
+            Arm::Right => &self.right_gripper_controller,
         }
     }
 }
@@ -182,13 +285,30 @@ pub fn arm_message(plan: &Plan, arm: Arm) -> Option<RosJointTrajectory> {
     })
 }
 
+/// `x` in the shortest digits that read back as exactly `x` (Rust's `{:?}`, as ryu prints),
+/// in a form YAML 1.1 reads as a float: PyYAML, which `ros2` and rclpy scripts use, takes
+/// `1e-7` and `1.0e16` for strings and needs `1.0e-7` and `1.0e+16`.
 pub(super) fn num(x: f64) -> String {
-    // Shortest representation that round-trips; YAML and CSV both accept it.
     let s = format!("{x:?}");
-    if s.contains('e') || s.contains('.') || s.contains("inf") || s.contains("NaN") {
-        s
-    } else {
-        format!("{s}.0")
+    if s.contains("inf") || s.contains("NaN") {
+        return s;
+    }
+    match s.split_once('e') {
+        Some((m, e)) => {
+            let m = if m.contains('.') {
+                m.to_string()
+            } else {
+                format!("{m}.0")
+            };
+            let e = if e.starts_with('-') {
+                e.to_string()
+            } else {
+                format!("+{e}")
+            };
+            format!("{m}e{e}")
+        }
+        None if s.contains('.') => s,
+        None => format!("{s}.0"),
     }
 }
 
@@ -248,10 +368,16 @@ pub fn to_csv(m: &RosJointTrajectory) -> String {
     s
 }
 
-/// Write the plan's joint trajectories in `format` into `out_dir` (created if needed): one file
-/// per arm that moves (`left_arm.yaml`, `right_arm.csv`, …). Returns the paths written. Fails
-/// when the plan has no trajectories or a trajectory of it has an error.
+/// [`export_with`] with the default [`ExportOptions`].
 pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<PathBuf>> {
+    export_with(plan, format, out_dir, &ExportOptions::default())
+}
+
+/// Write the plan's joint trajectories in `format` into `out_dir` (created if needed): one file
+/// per arm that moves (`left_arm.yaml`, `right_arm.csv`, …), or the ROS 2 files. Returns the
+/// paths written. Fails when the plan has no trajectories or a trajectory of it has an error.
+/// It does not judge whether the robot can run the plan: call [`crate::verify::verify`] first.
+pub fn export_with(plan: &Plan, format: ExportFormat, out_dir: &Path, opts: &ExportOptions) -> Result<Vec<PathBuf>> {
     let file = "plan.json";
     if plan.trajectories.is_empty() {
         return Err(Error::input(
@@ -272,6 +398,7 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
         ));
     }
     exportable(plan, file)?;
+    opts.check("<export options>")?;
     std::fs::create_dir_all(out_dir).map_err(|e| Error::Io {
         path: out_dir.to_path_buf(),
         source: e,
@@ -287,10 +414,14 @@ pub fn export(plan: &Plan, format: ExportFormat, out_dir: &Path) -> Result<Vec<P
         Ok(())
     };
     if format == ExportFormat::Ros2Goal {
-        if let Some(e) = super::ros2::ros2_export(plan) {
-            write("both_arms_goal.yaml", super::ros2::goal_yaml(&e), &mut written)?;
+        if let Some(e) = super::ros2::ros2_export(plan, opts) {
+            for g in &e.arms {
+                let text = super::ros2::arm_goal_yaml(&e.frame_id, g);
+                write(&super::ros2::arm_goal_file(g.arm), text, &mut written)?;
+            }
             write("gripper_commands.yaml", super::ros2::gripper_yaml(&e), &mut written)?;
             write("action_list.yaml", super::ros2::action_list_yaml(&e), &mut written)?;
+            write("ros2_goals.yaml", super::ros2::manifest_yaml(&e), &mut written)?;
         }
         return Ok(written);
     }
@@ -411,4 +542,23 @@ fn exportable(plan: &Plan, file: &str) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::num;
+
+    #[test]
+    fn numbers_print_shortest_and_as_yaml_1_1_floats() {
+        assert_eq!(num(0.05), "0.05");
+        // The noise of arithmetic stays (rounding is the caller's choice, see `ros2::round_nm`).
+        assert_eq!(num(0.1 + 0.2), "0.30000000000000004");
+        assert_eq!(num(1.0), "1.0");
+        assert_eq!(num(-2.5e-7), "-2.5e-7");
+        assert_eq!(num(1e-7), "1.0e-7");
+        assert_eq!(num(1e16), "1.0e+16");
+        for x in [0.1, 1e-7, 3.4e-17, 1e16, -123.456, 1e300] {
+            assert_eq!(num(x).parse::<f64>().unwrap(), x);
+        }
+    }
 }

@@ -95,10 +95,9 @@ pub struct GroupStats {
     pub node_limit: usize,
     /// Runs proven to have no plan (answers, not failures).
     pub infeasible: usize,
-    /// Instances of the group that every compared planner solved: the figures below are
-    /// over these only, so that planners are compared on the same instances.
-    pub common: usize,
-    /// Median wall time (s).
+    /// Median wall time (s). This and every figure below are over the group's solved runs:
+    /// a planner that solves nothing leaves only its own cells empty, and no other planner's
+    /// result changes the figures of this one (pairwise comparisons: [`tables::pairwise`]).
     pub median_time: Option<f64>,
     /// Largest wall time (s).
     pub max_time: Option<f64>,
@@ -112,13 +111,15 @@ pub struct GroupStats {
     pub median_verify_s: Option<f64>,
     /// Mean placement gap.
     pub mean_gap: Option<f64>,
-    /// Mean occupied area relative to the best solved planner on the same instance.
+    /// Mean occupied area relative to the best planner that solved the same instance.
     pub area_vs_best: Option<f64>,
-    /// Mean number of actions relative to the best solved planner on the same instance.
+    /// Mean number of actions relative to the best planner that solved the same instance.
     pub len_vs_best: Option<f64>,
 }
 
-/// The instances that every planner of `planners` solved (a verified plan).
+/// The instances that every planner of `planners` solved (a verified plan). Used for groups
+/// that are compared as a whole (the ablation means); a pair of planners is compared over the
+/// instances both solved ([`tables::pairwise`]).
 pub fn commonly_solved(rows: &[ResultRow], planners: &[String]) -> HashSet<String> {
     let mut by_instance: HashMap<&str, HashSet<&str>> = HashMap::new();
     for r in rows.iter().filter(|r| r.solved()) {
@@ -132,21 +133,18 @@ pub fn commonly_solved(rows: &[ResultRow], planners: &[String]) -> HashSet<Strin
 }
 
 /// Statistics of `rows` against the per-instance `best`. Counts are over every row; times,
-/// gaps and ratios over the rows of `common` instances only ([`commonly_solved`]).
-pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>, common: &HashSet<String>) -> GroupStats {
+/// gaps and ratios over the solved rows. (They were once over the instances every planner
+/// solved, and one planner that solved nothing emptied every other planner's cells.)
+pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>) -> GroupStats {
     let solved: Vec<&&ResultRow> = rows.iter().filter(|r| r.solved()).collect();
-    let compared: Vec<&&ResultRow> = solved
-        .iter()
-        .copied()
-        .filter(|r| common.contains(&r.instance))
-        .collect();
+    let compared = &solved;
     let times: Vec<f64> = compared.iter().map(|r| r.wall_time_s).collect();
     let gaps: Vec<f64> = compared.iter().filter_map(|r| r.placement_gap).collect();
     let stage =
         |f: &dyn Fn(&ResultRow) -> Option<f64>| median(&compared.iter().filter_map(|r| f(r)).collect::<Vec<_>>());
     let mut area_r = Vec::new();
     let mut len_r = Vec::new();
-    for r in &compared {
+    for r in compared {
         if let (Some(&(ba, bl)), Some(a), Some(l)) = (best.get(&r.instance), r.occupied_area, r.seq_len) {
             area_r.push(a / ba);
             len_r.push(l as f64 / bl);
@@ -169,7 +167,6 @@ pub fn group_stats(rows: &[&ResultRow], best: &HashMap<String, (f64, f64)>, comm
             .iter()
             .filter(|r| r.status == RunStatus::Planner(Status::Infeasible))
             .count(),
-        common: compared.len(),
         median_time: median(&times),
         median_placement_s: stage(&|r| r.placement_time_s),
         median_sequence_s: stage(&|r| r.sequence_time_s),
@@ -196,12 +193,12 @@ pub(crate) fn pct(n: usize, d: usize) -> String {
     }
 }
 
-const TABLE_HEAD: &str = "| runs | solved | proven optimal | infeasible | failed | time limit | node limit | compared | median time (s) | max time (s) | placement / sequence / motion / verify (s) | mean placement gap | area / best | actions / best |\n";
-const TABLE_RULE: &str = "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+const TABLE_HEAD: &str = "| runs | solved | proven optimal | infeasible | failed | time limit | node limit | median time (s) | max time (s) | placement / sequence / motion / verify (s) | mean placement gap | area / best | actions / best |\n";
+const TABLE_RULE: &str = "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 fn stats_cells(s: &GroupStats) -> String {
     format!(
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
         s.runs,
         pct(s.solved, s.runs),
         pct(s.proven, s.runs),
@@ -209,7 +206,6 @@ fn stats_cells(s: &GroupStats) -> String {
         s.failed,
         s.timeout,
         s.node_limit,
-        s.common,
         opt(s.median_time, |t| format!("{t:.2}")),
         opt(s.max_time, |t| format!("{t:.2}")),
         [
@@ -326,14 +322,14 @@ pub fn summary_markdown(m: &Merged) -> String {
         s,
         "*solved*: a plan the verifier accepts; *proven optimal*: the run's status is `optimal` (placement \
 proven, and A* proved the sequence for it; Bottom-Left and the paper's sequencer are heuristics, never proven); \
-*infeasible*: proven to have no plan (an answer, not a failure); *compared*: solved runs on the instances \
-that **every** planner of the table solved — times, gaps and ratios are over these only, so planners are \
-compared on the same instances; times are wall-clock seconds (one process per run), split into the \
-placement and sequence stages, the joint trajectories (motion) and the verifier; *area / best* and \
-*actions / best*: mean ratio to the best solved planner on the same instance.\n"
+*infeasible*: proven to have no plan (an answer, not a failure). Times, gaps and ratios of a row are over \
+**the runs that row's planner solved**, so each planner's figures stand on their own; planners that solved \
+different instances are compared pair by pair in *Pairwise comparisons*, over the instances both solved. \
+Times are wall-clock seconds (one process per run), split into the placement and sequence stages, the joint \
+trajectories (motion) and the verifier; *area / best* and *actions / best*: mean ratio to the best planner \
+that solved the same instance.\n"
     );
     let names = planners(rows);
-    let common = commonly_solved(rows, &names);
     let _ = writeln!(s, "## All sets\n");
     s += "| planner ";
     s += TABLE_HEAD;
@@ -341,7 +337,7 @@ placement and sequence stages, the joint trajectories (motion) and the verifier;
     s += TABLE_RULE;
     for p in &names {
         let g: Vec<&ResultRow> = rows.iter().filter(|r| &r.planner == p).collect();
-        let _ = writeln!(s, "| {p} {}", stats_cells(&group_stats(&g, &best, &common)));
+        let _ = writeln!(s, "| {p} {}", stats_cells(&group_stats(&g, &best)));
     }
     let _ = writeln!(s, "\n## Per set\n");
     s += "| set | objects | planner ";
@@ -354,18 +350,23 @@ placement and sequence stages, the joint trajectories (motion) and the verifier;
         for p in &names {
             let g: Vec<&ResultRow> = rows.iter().filter(|r| r.set == set && &r.planner == p).collect();
             if !g.is_empty() {
-                let _ = writeln!(
-                    s,
-                    "| {set} | {objs} | {p} {}",
-                    stats_cells(&group_stats(&g, &best, &common))
-                );
+                let _ = writeln!(s, "| {set} | {objs} | {p} {}", stats_cells(&group_stats(&g, &best)));
             }
         }
     }
     s += &simulation_table(rows, &names);
+    s += &tables::pairwise_markdown(rows, &names);
     s += &tables::confidence_markdown(rows, &names);
-    if names.len() > 1 && names.len() <= 63 {
-        let prof = performance_profile(rows, &names);
+    let prof = (names.len() > 1 && names.len() <= 63).then(|| performance_profile(rows, &names));
+    if prof.as_ref().is_some_and(|p| p.instances == 0) {
+        let _ = writeln!(s, "\n## Performance profile (wall time)\n");
+        let _ = writeln!(
+            s,
+            "No instance was run by every planner (batches with different planners merged?), so there is no \
+profile over all planners; see *Pairwise comparisons*.\n"
+        );
+    }
+    if let Some(prof) = prof.filter(|p| p.instances > 0) {
         let taus = [1.0, 1.5, 2.0, 4.0, 10.0, 100.0];
         let _ = writeln!(s, "\n## Performance profile (wall time)\n");
         let _ = writeln!(
@@ -398,6 +399,15 @@ the solved share. `performance_profile.svg` draws it.\n",
             "Over the instances every variant of the group solved, so the means compare like with like.\n"
         );
         for (base, variants) in &groups {
+            let means: Vec<_> = ablation_means(rows, variants).into_iter().filter(|m| m.1 > 0).collect();
+            if means.is_empty() {
+                let _ = writeln!(
+                    s,
+                    "No instance was solved by every variant of {}: no means to compare.\n",
+                    variants.join(", ")
+                );
+                continue;
+            }
             let _ = write!(s, "| set | instances |");
             for v in variants {
                 let _ = write!(s, " {v} |");
@@ -405,7 +415,7 @@ the solved share. `performance_profile.svg` draws it.\n",
             let _ = write!(s, "\n|---|---:|");
             s += &"---:|".repeat(variants.len());
             s.push('\n');
-            for (set, n, means) in ablation_means(rows, variants).into_iter().filter(|m| m.1 > 0) {
+            for (set, n, means) in means {
                 let _ = write!(s, "| {set} | {n} |");
                 for m in means {
                     let _ = write!(s, " {} |", opt(m, |x| format!("{x:.2}")));
@@ -430,10 +440,10 @@ the solved share. `performance_profile.svg` draws it.\n",
             let err = r.error.as_deref().unwrap_or("").replace('|', "\\|");
             let _ = writeln!(
                 s,
-                "| {} | {} | {:?} | {} | {} |",
+                "| {} | {} | {} | {} | {} |",
                 r.instance,
                 r.planner,
-                r.status,
+                r.status.as_str(),
                 r.verify.as_deref().unwrap_or("–"),
                 err
             );
@@ -622,7 +632,7 @@ mod tests {
     }
 
     #[test]
-    fn medians_best_and_ablation_means_use_only_solved_common_instances() {
+    fn medians_and_ratios_use_solved_runs_and_ablation_means_common_instances() {
         assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
         assert_eq!(median(&[4.0, 1.0]), Some(2.5));
         assert_eq!(median(&[]), None);
@@ -641,13 +651,13 @@ mod tests {
         let names = planners(&rows);
         let common = commonly_solved(&rows, &names);
         assert_eq!(common, HashSet::from(["s/a".to_string()]));
-        let g = group_stats(&refs, &best_per_instance(&rows), &common);
-        assert_eq!((g.runs, g.solved, g.failed, g.common), (2, 1, 1, 1));
+        let g = group_stats(&refs, &best_per_instance(&rows));
+        assert_eq!((g.runs, g.solved, g.failed), (2, 1, 1));
         assert_eq!(g.len_vs_best, Some(1.5));
-        // bl+paper solved b too, but b is not common: its 8 actions stay out of the ratio.
+        // bl+paper's figures are over what it solved, b included, whatever the variant did.
         let refs: Vec<&ResultRow> = rows.iter().filter(|r| r.planner == "bl+paper").collect();
-        let g = group_stats(&refs, &best_per_instance(&rows), &common);
-        assert_eq!((g.solved, g.common), (2, 1));
+        let g = group_stats(&refs, &best_per_instance(&rows));
+        assert_eq!(g.solved, 2);
         assert_eq!(g.len_vs_best, Some(1.0));
     }
 

@@ -59,7 +59,9 @@ pub fn write_plots(rows: &[ResultRow], out: &Path) -> Result<Vec<PathBuf>> {
     let p = out.join("cactus.svg");
     cactus(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
     files.push(p);
-    if names.len() > 1 {
+    // A profile needs instances every planner ran; merged batches of different planners may
+    // have none, and an empty plot says nothing.
+    if names.len() > 1 && names.len() <= 63 && super::performance_profile(rows, &names).instances > 0 {
         let p = out.join("performance_profile.svg");
         profile_plot(rows, &names, &p).map_err(|e| draw_err(&p, e))?;
         files.push(p);
@@ -158,20 +160,22 @@ where
 
 fn time_vs_objects(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
     // Median wall time of solved runs per (planner, object count).
-    let mut pts: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
+    // Object counts are whole: an integer axis ticks whole numbers only (a real axis once
+    // printed ticks between them without decimals, "5 6 6 6 7 8 8 8 9").
+    let mut pts: Vec<(usize, Vec<(i32, f64)>)> = Vec::new();
     for (k, p) in names.iter().enumerate() {
         let mut by_n: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
         for r in rows.iter().filter(|r| &r.planner == p && r.solved()) {
             by_n.entry(r.objects).or_default().push(r.wall_time_s);
         }
-        let v: Vec<(f64, f64)> = by_n
+        let v: Vec<(i32, f64)> = by_n
             .into_iter()
-            .filter_map(|(n, t)| median(&t).map(|m| (n as f64, m)))
+            .filter_map(|(n, t)| median(&t).map(|m| (n as i32, m)))
             .collect();
         pts.push((k, v));
     }
-    let nmax = rows.iter().map(|r| r.objects).max().unwrap_or(1) as f64;
-    let nmin = rows.iter().map(|r| r.objects).min().unwrap_or(0) as f64;
+    let nmax = rows.iter().map(|r| r.objects).max().unwrap_or(1) as i32;
+    let nmin = rows.iter().map(|r| r.objects).min().unwrap_or(0) as i32;
     let yr = log_range(pts.iter().flat_map(|(_, v)| v.iter().map(|p| p.1)));
     let root = SVGBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE)?;
@@ -181,14 +185,15 @@ fn time_vs_objects(rows: &[ResultRow], names: &[String], path: &Path) -> DrawRes
         .x_label_area_size(55)
         .y_label_area_size(80)
         .build_cartesian_2d(
-            (nmin - 1.0)..(nmax + 1.0),
+            (nmin - 1)..(nmax + 1),
             yr.clone().log_scale().with_key_points(log_ticks(&yr)),
         )?;
     house_style(&mut chart.configure_mesh())
         .x_desc("objects")
         .y_desc("median wall time (s, log scale)")
         .y_labels(30)
-        .x_label_formatter(&|x| format!("{x:.0}"))
+        .x_labels(12)
+        .x_label_formatter(&|x| x.to_string())
         .y_label_formatter(&|y| tick_label(*y))
         .draw()?;
     for (k, v) in pts {
@@ -232,7 +237,7 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         .x_label_area_size(55)
         .y_label_area_size(80)
         .build_cartesian_2d(
-            0f64..(per_planner as f64 * 1.02 + 1.0),
+            0i32..(per_planner as i32 + 1),
             yr.clone().log_scale().with_key_points(log_ticks(&yr)),
         )?;
     house_style(&mut chart.configure_mesh())
@@ -243,12 +248,13 @@ fn cactus(rows: &[ResultRow], names: &[String], path: &Path) -> DrawResult {
         })
         .y_desc("wall time per run (s, log scale)")
         .y_labels(30)
-        .x_label_formatter(&|x| format!("{x:.0}"))
+        .x_labels(12)
+        .x_label_formatter(&|x| x.to_string())
         .y_label_formatter(&|y| tick_label(*y))
         .draw()?;
     for (k, t) in series.into_iter().enumerate() {
         let (c, w) = (color(k), width(k, names.len()));
-        let pts: Vec<(f64, f64)> = t.iter().enumerate().map(|(i, &y)| ((i + 1) as f64, y)).collect();
+        let pts: Vec<(i32, f64)> = t.iter().enumerate().map(|(i, &y)| ((i + 1) as i32, y)).collect();
         chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(w)))?
             .label(format!("{} ({} of {} solved)", names[k], pts.len(), runs[k]))

@@ -1,7 +1,7 @@
 //! Report tables beyond the summary: one row per instance with every planner's result, and
 //! bootstrap confidence intervals on the summary's medians and mean ratios.
 
-use super::{best_per_instance, commonly_solved, mean, median, pct};
+use super::{best_per_instance, mean, median, pct};
 use crate::bench::row::ResultRow;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -43,27 +43,22 @@ fn interval(v: &[f64], stat: fn(&[f64]) -> Option<f64>, digits: usize) -> String
     }
 }
 
-/// Per planner, over the instances every planner solved: median wall time, mean area and mean
-/// number of actions relative to the best planner on the instance, each with its 95 % interval.
+/// Per planner, over the instances it solved: median wall time, mean area and mean number of
+/// actions relative to the best planner on the instance, each with its 95 % interval.
 pub fn confidence_markdown(rows: &[ResultRow], names: &[String]) -> String {
     let best = best_per_instance(rows);
-    let common = commonly_solved(rows, names);
     let mut s = String::new();
     let _ = writeln!(s, "\n## Confidence intervals\n");
     let _ = writeln!(
         s,
-        "Over the {} instances every planner solved: the estimate and its 95 % percentile bootstrap interval \
-({BOOTSTRAP_RESAMPLES} resamples of the instances, seed {BOOTSTRAP_SEED:#x}, so the same rows give the same intervals).\n",
-        common.len()
+        "Per planner over the instances it solved: the estimate and its 95 % percentile bootstrap interval \
+({BOOTSTRAP_RESAMPLES} resamples of the instances, seed {BOOTSTRAP_SEED:#x}, so the same rows give the same intervals).\n"
     );
     s += "| planner | instances | median wall time (s) | mean area / best | mean actions / best |\n";
     s += "|---|---:|---:|---:|---:|\n";
     for p in names {
         let (mut t, mut a, mut l) = (Vec::new(), Vec::new(), Vec::new());
-        for r in rows
-            .iter()
-            .filter(|r| &r.planner == p && r.solved() && common.contains(&r.instance))
-        {
+        for r in rows.iter().filter(|r| &r.planner == p && r.solved()) {
             t.push(r.wall_time_s);
             if let (Some(&(ba, bl)), Some(x), Some(n)) = (best.get(&r.instance), r.occupied_area, r.seq_len) {
                 a.push(x / ba);
@@ -78,6 +73,94 @@ pub fn confidence_markdown(rows: &[ResultRow], names: &[String]) -> String {
             interval(&a, mean, 3),
             interval(&l, mean, 3)
         );
+    }
+    s
+}
+
+/// Two planners compared over the instances both solved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pair {
+    /// The first planner.
+    pub a: String,
+    /// The second planner.
+    pub b: String,
+    /// Instances both solved: every figure below is over these.
+    pub both: usize,
+    /// Of those, the instances on which `a` took less wall time than `b`.
+    pub a_faster: usize,
+    /// Median over those instances of `a`'s wall time over `b`'s.
+    pub time_ratio: Option<f64>,
+    /// Mean of `a`'s occupied area over `b`'s.
+    pub area_ratio: Option<f64>,
+    /// Mean of `a`'s number of actions over `b`'s.
+    pub len_ratio: Option<f64>,
+}
+
+/// `a` against `b` over the instances both solved.
+pub fn pairwise(rows: &[ResultRow], a: &str, b: &str) -> Pair {
+    let solved = |p: &str| -> BTreeMap<&str, &ResultRow> {
+        rows.iter()
+            .filter(|r| r.planner == p && r.solved())
+            .map(|r| (r.instance.as_str(), r))
+            .collect()
+    };
+    let (sa, sb) = (solved(a), solved(b));
+    let (mut t, mut area, mut len, mut faster) = (Vec::new(), Vec::new(), Vec::new(), 0);
+    for (i, ra) in &sa {
+        let Some(rb) = sb.get(i) else { continue };
+        t.push(ra.wall_time_s.max(1e-9) / rb.wall_time_s.max(1e-9));
+        faster += usize::from(ra.wall_time_s < rb.wall_time_s);
+        if let (Some(x), Some(y)) = (ra.occupied_area, rb.occupied_area) {
+            area.push(x / y);
+        }
+        if let (Some(x), Some(y)) = (ra.seq_len, rb.seq_len) {
+            len.push(x as f64 / y as f64);
+        }
+    }
+    Pair {
+        a: a.to_string(),
+        b: b.to_string(),
+        both: t.len(),
+        a_faster: faster,
+        time_ratio: median(&t),
+        area_ratio: mean(&area),
+        len_ratio: mean(&len),
+    }
+}
+
+/// Every pair of planners, each over the instances both solved (empty for one planner).
+pub fn pairwise_markdown(rows: &[ResultRow], names: &[String]) -> String {
+    let mut s = String::new();
+    if names.len() < 2 {
+        return s;
+    }
+    let _ = writeln!(s, "\n## Pairwise comparisons\n");
+    let _ = writeln!(
+        s,
+        "Each row compares planner A with planner B over **the instances both solved** (*both*), and only those: \
+the median of A's wall time over B's, how often A was faster, and the mean ratios of occupied area and of actions \
+(below 1: A better).\n"
+    );
+    s += "| A | B | both solved | median time A / B | A faster | mean area A / B | mean actions A / B |\n";
+    s += "|---|---|---:|---:|---:|---:|---:|\n";
+    let f = |v: Option<f64>, d: usize| v.map_or("–".to_string(), |x| format!("{x:.d$}"));
+    for (i, a) in names.iter().enumerate() {
+        for b in &names[i + 1..] {
+            let p = pairwise(rows, a, b);
+            let _ = writeln!(
+                s,
+                "| {a} | {b} | {} | {} | {} | {} | {} |",
+                p.both,
+                f(p.time_ratio, 2),
+                if p.both == 0 {
+                    "–".to_string()
+                } else {
+                    format!("{} of {}", p.a_faster, p.both)
+                },
+                f(p.area_ratio, 3),
+                f(p.len_ratio, 3)
+            );
+        }
     }
     s
 }

@@ -103,3 +103,4 @@ pub fn hand_result(inst: &Instance, placement: pushpack::placement::Placement) -
         subproblems: 0,
     }
 }
+pub mod limits;
