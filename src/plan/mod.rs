@@ -505,7 +505,7 @@ fn sequence_physical(
     }
 }
 
-/// Share of the time left that one search of [`sequence_physical`] may use: the rest is kept
+/// Share of the time left that one search of the planner's physics loop (`docs/push_stability.md` §13) may use: the rest is kept
 /// for searching again around the actions the replay rejects.
 pub const PHYSICS_SHARE: f64 = 2.0 / 3.0;
 

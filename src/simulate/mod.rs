@@ -218,7 +218,7 @@ fn replay(inst: &Instance, plan: &impl Replayable, opts: &SimOptions, stop_at_fa
         in_container: Vec::new(),
         rng: opts
             .perturb
-            .map(|p| rand_chacha::ChaCha8Rng::seed_from_u64(p.seed ^ 0x5eed_0f_e77025)),
+            .map(|p| rand_chacha::ChaCha8Rng::seed_from_u64(p.seed ^ 0x5eed_0fe7_7025)),
     };
     let mut action_reports = Vec::with_capacity(actions.len());
     for (k, a) in actions.iter().enumerate() {
