@@ -156,3 +156,75 @@ impl Layout<'_> {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Arm, Axis2, PushDir};
+    use crate::instance::InstanceBuilder;
+
+    #[test]
+    fn a_veto_rejects_its_action_only_in_its_neighbourhood() {
+        // Three boxes in a row along x; box 2 far to the right.
+        let inst = InstanceBuilder::new("veto")
+            .container(0.3, 0.2, 0.1, 0.01, [0.3, 0.0])
+            .friction(0.35, 0.4, 0.6)
+            .kind("k", [0.04, 0.04, 0.03], 0.05)
+            .object("a", "k", [0.2, 0.2], crate::instance::Orientations::Upright)
+            .object("b", "k", [0.2, 0.25], crate::instance::Orientations::Upright)
+            .object("c", "k", [0.2, 0.3], crate::instance::Orientations::Upright)
+            .build()
+            .expect("a valid instance");
+        let target = |rect| crate::placement::Target {
+            orientation: crate::geometry::Orientation {
+                up: crate::geometry::BodyAxis::Z,
+                yaw90: false,
+            },
+            rect,
+            height: 0.03,
+        };
+        let placement = crate::placement::Placement {
+            targets: vec![
+                target(Rect::new(0.0, 0.0, 0.04, 0.04)),
+                target(Rect::new(0.0, 0.04, 0.04, 0.04)),
+                target(Rect::new(0.2, 0.0, 0.04, 0.04)),
+            ],
+        };
+        let place = |object| Action::Place {
+            object,
+            mode: super::super::PlaceMode::Indirect {
+                push_dir: PushDir::MinusX,
+                offset: 0.015,
+            },
+            grasp_axis: Axis2::Y,
+            arm: Arm::Left,
+        };
+        let push = Action::Push {
+            objects: vec![0],
+            push_dir: PushDir::MinusX,
+            distance: 0.015,
+            pusher_at: 0.02,
+            arm: Arm::Left,
+        };
+        let mut layout = Layout::new(&inst, &placement);
+        layout.apply(&place(0));
+        let veto = Veto::new(&layout, &push, "test".into());
+        assert!(veto.rejects(&layout, &push));
+        // The same push by the other arm is the same push.
+        let other_arm = Action::Push {
+            objects: vec![0],
+            push_dir: PushDir::MinusX,
+            distance: 0.015,
+            pusher_at: 0.02,
+            arm: Arm::Right,
+        };
+        assert!(veto.rejects(&layout, &other_arm));
+        // A box far away changes nothing; a neighbour released beside the line does.
+        let mut far = layout.clone();
+        far.apply(&place(2));
+        assert!(veto.rejects(&far, &push));
+        let mut near = layout.clone();
+        near.apply(&place(1));
+        assert!(!veto.rejects(&near, &push));
+    }
+}
