@@ -168,6 +168,21 @@ impl SimReport {
         }
     }
 
+    /// The cells a table row of one replay ends with: the verdict, the worst box (mm, °) and
+    /// the first action out of tolerance (`–` when none is).
+    pub fn row_cells(&self) -> String {
+        let (pos, rot) = self.worst();
+        let first = self.actions.iter().find(|a| !a.ok).map_or("–".to_string(), |a| {
+            format!("step {} {} {}", a.step, a.kind, a.objects.join(","))
+        });
+        let verdict = if self.ok {
+            "within tolerance"
+        } else {
+            "OUT OF TOLERANCE"
+        };
+        format!("{verdict} | {pos:.3}, {rot:.3} | {first}")
+    }
+
     /// The worst box: largest final distance from its target (mm) and largest rotation (°).
     pub fn worst(&self) -> (f64, f64) {
         self.boxes.iter().fold((0.0, 0.0), |(p, r), b| {

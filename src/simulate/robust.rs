@@ -59,20 +59,7 @@ pub fn robust_table(runs: &[RobustRun]) -> String {
         "| seed | setting | verdict | worst box (mm, °) | first action out of tolerance |\n|---|---|---|---|---|\n",
     );
     for r in runs {
-        let (pos, rot) = r.report.worst();
-        let first = r.report.actions.iter().find(|a| !a.ok).map_or("–".to_string(), |a| {
-            format!("step {} {} {}", a.step, a.kind, a.objects.join(","))
-        });
-        s += &format!(
-            "| {} | {} | {} | {pos:.3}, {rot:.3} | {first} |\n",
-            r.seed,
-            r.setting,
-            if r.report.ok {
-                "within tolerance"
-            } else {
-                "OUT OF TOLERANCE"
-            }
-        );
+        s += &format!("| {} | {} | {} |\n", r.seed, r.setting, r.report.row_cells());
     }
     s += &format!(
         "\n{} of {} perturbed replays within tolerance ({:.0} %)\n",

@@ -65,19 +65,7 @@ pub fn sweep_table(runs: &[SweepRun]) -> String {
     let mut s =
         String::from("| setting | verdict | worst box (mm, °) | first action out of tolerance |\n|---|---|---|---|\n");
     for r in runs {
-        let (pos, rot) = r.report.worst();
-        let first = r.report.actions.iter().find(|a| !a.ok).map_or("–".to_string(), |a| {
-            format!("step {} {} {}", a.step, a.kind, a.objects.join(","))
-        });
-        s += &format!(
-            "| {} | {} | {pos:.3}, {rot:.3} | {first} |\n",
-            r.setting,
-            if r.report.ok {
-                "within tolerance"
-            } else {
-                "OUT OF TOLERANCE"
-            }
-        );
+        s += &format!("| {} | {} |\n", r.setting, r.report.row_cells());
     }
     s
 }
